@@ -1,0 +1,83 @@
+#pragma once
+// Step 4 of the generator: Levenberg-Marquardt densification of centres and radii
+// (Labra section 3.2.2-3.2.3) with Ceres on a sparse problem.
+//
+// Unknowns: every centre and radius. Residuals, on the current contact graph:
+//   edge (i, j):        d = |xi - xj|^2 - (ri + rj)^2                    (Labra 3.1)
+//   tie (i, facet k):   b = s|s| - ri^2,  s = signed distance to facet   (Labra 3.8)
+// (3.8 as printed, s^2 - r^2, vanishes again for a particle a radius beyond the wall;
+// s|s| keeps pulling it back.) Radii are bounded to [radius_min, radius_max].
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "generator/contact_graph.h"
+#include "generator/domain.h"
+
+namespace specimen {
+
+struct LevenbergMarquardtOptions {
+  // Radius bounds, as Ceres parameter bounds.
+  double radius_min = 0.0;
+  double radius_max = 0.0;
+  // Weight multiplying residuals of overlapping pairs (d < 0); 1 = plain least squares.
+  double overlap_weight = 1.0;
+  // Residual scale (a length, usually the mean radius): residuals are divided by its
+  // square so that the solver's tolerances are scale-free.
+  double length_scale = 1.0;
+  int max_iterations = 50;
+  double function_tolerance = 1e-12;
+  double gradient_tolerance = 1e-14;
+  double parameter_tolerance = 1e-12;
+  int num_threads = 1;
+  // Edges and ties flagged here are one-sided (residual only when overlapping): pairs
+  // that are neighbours but not contacts must not be pushed together, only kept apart.
+  std::vector<char> edge_one_sided;   // per graph edge; empty = all two-sided
+  std::vector<char> tie_one_sided;    // per boundary tie
+  // Optional radius targets: residual radius_target_weight * (r_i - target_i) / length_scale.
+  // A target above what fits drives the packing to densify (a growth pressure balanced by
+  // the overlap residuals); empty = none.
+  std::vector<double> radius_targets;
+  double radius_target_weight = 0.0;
+  // Volume objective: residual sqrt(volume_weight * (C - (r_i / length_scale)^p)), whose
+  // square sums to a constant minus the weighted sum of r^p: least squares then maximises
+  // the particle volume (p = Dim) or a milder power, against the overlap residuals.
+  double volume_weight = 0.0;
+  double volume_exponent = 2.0;
+  // Proximal term: position_anchor_weight * (x_i - x_i at the start) / length_scale keeps
+  // every solve a local step and removes the null space of underdetermined problems.
+  double position_anchor_weight = 0.0;
+  // Use conjugate gradients on the normal equations (inexact steps) instead of sparse
+  // Cholesky; cheaper per iteration on large 3D problems.
+  bool iterative_linear_solver = false;
+};
+
+struct LevenbergMarquardtSummary {
+  int iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  double seconds = 0.0;
+  std::string termination;  // Ceres' termination message
+};
+
+// Minimises the sum of squared residuals over the given graph, updating centres and radii
+// in place.
+template <int Dim>
+LevenbergMarquardtSummary SolveLevenbergMarquardt(const Domain<Dim>& domain,
+                                                  const ContactGraph<Dim>& graph,
+                                                  const LevenbergMarquardtOptions& options,
+                                                  std::vector<Vector<Dim>>& centres,
+                                                  std::vector<double>& radii);
+
+// The residuals and their Jacobians, exposed for testing against finite differences.
+// Parameters are [x..., r] blocks of size Dim + 1.
+template <int Dim>
+double EdgeResidual(const double* particle_i, const double* particle_j, double length_scale,
+                    double overlap_weight, bool one_sided, double* jacobian_i, double* jacobian_j);
+template <int Dim>
+double BoundaryResidual(const Domain<Dim>& domain, const BoundaryFacet<Dim>& facet,
+                        const double* particle, double length_scale, double overlap_weight,
+                        bool one_sided, double* jacobian);
+
+}  // namespace specimen
