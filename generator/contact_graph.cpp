@@ -43,11 +43,7 @@ struct RegularTraits<3> {
   }
 };
 
-// A vertex of the triangulation: a particle (facet = -1) or the mirror of one.
-struct Site {
-  int particle;
-  int facet;
-};
+using Site = GraphSite;
 
 template <int Dim>
 typename RegularTraits<Dim>::Triangulation Triangulate(
@@ -107,7 +103,8 @@ std::vector<bool> PresentSites(const Triangulation& rt, size_t site_count) {
 template <int Dim>
 ContactGraph<Dim> BuildContactGraph(const Domain<Dim>& domain,
                                     const std::vector<Vector<Dim>>& centres,
-                                    const std::vector<double>& radii, double ghost_band) {
+                                    const std::vector<double>& radii, double ghost_band,
+                                    bool with_cells) {
   const int n = static_cast<int>(centres.size());
   const auto& facets = domain.Facets();
 
@@ -146,6 +143,18 @@ ContactGraph<Dim> BuildContactGraph(const Domain<Dim>& domain,
   };
   ForEachEdge(rt, add);
 
+  if (with_cells) {
+    if constexpr (Dim == 2) {
+      for (auto f = rt.finite_faces_begin(); f != rt.finite_faces_end(); ++f)
+        graph.cells.push_back({sites[f->vertex(0)->info()], sites[f->vertex(1)->info()],
+                               sites[f->vertex(2)->info()]});
+    } else {
+      for (auto c = rt.finite_cells_begin(); c != rt.finite_cells_end(); ++c)
+        graph.cells.push_back({sites[c->vertex(0)->info()], sites[c->vertex(1)->info()],
+                               sites[c->vertex(2)->info()], sites[c->vertex(3)->info()]});
+    }
+  }
+
   // Hidden particles have no edges of their own: tie them to the particles covering them.
   const std::vector<bool> present = PresentSites(rt, sites.size());
   for (int i = 0; i < n; ++i) {
@@ -180,9 +189,9 @@ std::vector<std::array<int, Dim + 1>> RegularTriangulationCells(
 }
 
 template ContactGraph<2> BuildContactGraph<2>(const Domain<2>&, const std::vector<Vector<2>>&,
-                                              const std::vector<double>&, double);
+                                              const std::vector<double>&, double, bool);
 template ContactGraph<3> BuildContactGraph<3>(const Domain<3>&, const std::vector<Vector<3>>&,
-                                              const std::vector<double>&, double);
+                                              const std::vector<double>&, double, bool);
 template std::vector<std::array<int, 3>> RegularTriangulationCells<2>(
     const std::vector<Vector<2>>&, const std::vector<double>&);
 template std::vector<std::array<int, 4>> RegularTriangulationCells<3>(

@@ -17,6 +17,13 @@
 
 namespace specimen {
 
+// A vertex of the regular triangulation: a particle (facet = -1) or its mirror image
+// across a boundary facet.
+struct GraphSite {
+  int particle = -1;
+  int facet = -1;
+};
+
 template <int Dim>
 struct ContactGraph {
   // Edges between particles (i < j), sorted.
@@ -26,6 +33,9 @@ struct ContactGraph {
   // Particles hidden in the regular triangulation (covered by the power cells of others);
   // each got edges to the vertices of the simplex that contains it.
   int hidden_particles = 0;
+  // The finite simplices (triangles, tetrahedra) with their sites, filled only when asked
+  // for (BuildContactGraph's `with_cells`); the hole filling uses them.
+  std::vector<std::array<GraphSite, Dim + 1>> cells;
 };
 
 // Builds the graph. `ghost_band`: particles farther than this from a facet get no mirror
@@ -33,7 +43,8 @@ struct ContactGraph {
 template <int Dim>
 ContactGraph<Dim> BuildContactGraph(const Domain<Dim>& domain,
                                     const std::vector<Vector<Dim>>& centres,
-                                    const std::vector<double>& radii, double ghost_band);
+                                    const std::vector<double>& radii, double ghost_band,
+                                    bool with_cells = false);
 
 // Delaunay simplices (triangles, tetrahedra) of the regular triangulation of the
 // particles alone, as particle indices; used for the Bagi strain and for metrics.

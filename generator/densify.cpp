@@ -5,8 +5,6 @@
 #include <chrono>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 namespace specimen {
 
@@ -97,58 +95,6 @@ class BoundaryCost final : public ceres::SizedCostFunction<1, Dim + 1> {
   bool one_sided_;
 };
 
-// Growth pressure: r_i pulled towards a target radius.
-class RadiusTargetCost final : public ceres::CostFunction {
- public:
-  RadiusTargetCost(int block_size, double target, double weight)
-      : target_(target), weight_(weight), radius_index_(block_size - 1) {
-    set_num_residuals(1);
-    mutable_parameter_block_sizes()->push_back(block_size);
-  }
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override {
-    residuals[0] = weight_ * (parameters[0][radius_index_] - target_);
-    if (jacobians && jacobians[0]) {
-      for (int k = 0; k < radius_index_; ++k) jacobians[0][k] = 0.0;
-      jacobians[0][radius_index_] = weight_;
-    }
-    return true;
-  }
-
- private:
-  double target_;
-  double weight_;
-  int radius_index_;
-};
-
-// Volume objective (see LevenbergMarquardtOptions::volume_weight).
-class VolumeCost final : public ceres::CostFunction {
- public:
-  VolumeCost(int block_size, double weight, double exponent, double length_scale, double ceiling)
-      : weight_(weight), exponent_(exponent), inverse_scale_(1.0 / length_scale),
-        ceiling_(ceiling), radius_index_(block_size - 1) {
-    set_num_residuals(1);
-    mutable_parameter_block_sizes()->push_back(block_size);
-  }
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override {
-    const double t = std::max(parameters[0][radius_index_] * inverse_scale_, 0.0);
-    const double value = std::max(ceiling_ - std::pow(t, exponent_), 1e-12);
-    const double root = std::sqrt(weight_ * value);
-    residuals[0] = root;
-    if (jacobians && jacobians[0]) {
-      for (int k = 0; k < radius_index_; ++k) jacobians[0][k] = 0.0;
-      jacobians[0][radius_index_] =
-          -0.5 * weight_ * exponent_ * std::pow(t, exponent_ - 1.0) * inverse_scale_ / root;
-    }
-    return true;
-  }
-
- private:
-  double weight_, exponent_, inverse_scale_, ceiling_;
-  int radius_index_;
-};
-
 // Proximal term: x_i pulled towards its position at the start of the solve.
 template <int Dim>
 class PositionAnchorCost final : public ceres::SizedCostFunction<Dim, Dim + 1> {
@@ -191,9 +137,25 @@ LevenbergMarquardtSummary SolveLevenbergMarquardt(const Domain<Dim>& domain,
   ceres::Problem::Options problem_options;
   problem_options.enable_fast_removal = false;
   ceres::Problem problem(problem_options);
-  for (int i = 0; i < n; ++i) problem.AddParameterBlock(&parameters[i * (Dim + 1)], Dim + 1);
+  const bool local = !options.free_particles.empty();
+  auto is_free = [&](int i) { return !local || options.free_particles[i] != 0; };
+  std::vector<char> in_problem(n, 0);
+  for (int i = 0; i < n; ++i) {
+    if (!is_free(i)) continue;
+    problem.AddParameterBlock(&parameters[i * (Dim + 1)], Dim + 1);
+    in_problem[i] = 1;
+  }
+  auto hold = [&](int i) {
+    if (in_problem[i]) return;
+    problem.AddParameterBlock(&parameters[i * (Dim + 1)], Dim + 1);
+    problem.SetParameterBlockConstant(&parameters[i * (Dim + 1)]);
+    in_problem[i] = 2;
+  };
   for (size_t k = 0; k < graph.edges.size(); ++k) {
     const auto& e = graph.edges[k];
+    if (!is_free(e[0]) && !is_free(e[1])) continue;
+    hold(e[0]);
+    hold(e[1]);
     const bool one_sided = !options.edge_one_sided.empty() && options.edge_one_sided[k];
     problem.AddResidualBlock(
         new EdgeCost<Dim>(options.length_scale, options.overlap_weight, one_sided), nullptr,
@@ -201,32 +163,22 @@ LevenbergMarquardtSummary SolveLevenbergMarquardt(const Domain<Dim>& domain,
   }
   for (size_t k = 0; k < graph.boundary_ties.size(); ++k) {
     const auto& tie = graph.boundary_ties[k];
+    if (!is_free(tie.first)) continue;
     const bool one_sided = !options.tie_one_sided.empty() && options.tie_one_sided[k];
     problem.AddResidualBlock(
         new BoundaryCost<Dim>(domain, domain.Facets()[tie.second], options.length_scale,
                               options.overlap_weight, one_sided),
         nullptr, &parameters[tie.first * (Dim + 1)]);
   }
-  if (!options.radius_targets.empty() && options.radius_target_weight > 0.0) {
-    const double weight = options.radius_target_weight / options.length_scale;
-    for (int i = 0; i < n; ++i)
-      problem.AddResidualBlock(new RadiusTargetCost(Dim + 1, options.radius_targets[i], weight),
-                               nullptr, &parameters[i * (Dim + 1)]);
-  }
-  if (options.volume_weight > 0.0) {
-    const double ceiling = 1.5 * std::pow(options.radius_max / options.length_scale, options.volume_exponent);
-    for (int i = 0; i < n; ++i)
-      problem.AddResidualBlock(new VolumeCost(Dim + 1, options.volume_weight, options.volume_exponent,
-                                              options.length_scale, ceiling),
-                               nullptr, &parameters[i * (Dim + 1)]);
-  }
   if (options.position_anchor_weight > 0.0) {
     const double weight = options.position_anchor_weight / options.length_scale;
     for (int i = 0; i < n; ++i)
-      problem.AddResidualBlock(new PositionAnchorCost<Dim>(&parameters[i * (Dim + 1)], weight),
-                               nullptr, &parameters[i * (Dim + 1)]);
+      if (is_free(i))
+        problem.AddResidualBlock(new PositionAnchorCost<Dim>(&parameters[i * (Dim + 1)], weight),
+                                 nullptr, &parameters[i * (Dim + 1)]);
   }
   for (int i = 0; i < n; ++i) {
+    if (in_problem[i] != 1) continue;
     double* block = &parameters[i * (Dim + 1)];
     problem.SetParameterLowerBound(block, Dim, options.radius_min);
     problem.SetParameterUpperBound(block, Dim, options.radius_max);
@@ -253,7 +205,6 @@ LevenbergMarquardtSummary SolveLevenbergMarquardt(const Domain<Dim>& domain,
 
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(solver_options, &problem, &ceres_summary);
-  if (std::getenv("SPECIMEN_DEBUG_CERES")) std::fprintf(stderr, "%s\n", ceres_summary.FullReport().c_str());
 
   for (int i = 0; i < n; ++i) {
     for (int k = 0; k < Dim; ++k) centres[i][k] = parameters[i * (Dim + 1) + k];

@@ -35,19 +35,13 @@ struct LevenbergMarquardtOptions {
   // that are neighbours but not contacts must not be pushed together, only kept apart.
   std::vector<char> edge_one_sided;   // per graph edge; empty = all two-sided
   std::vector<char> tie_one_sided;    // per boundary tie
-  // Optional radius targets: residual radius_target_weight * (r_i - target_i) / length_scale.
-  // A target above what fits drives the packing to densify (a growth pressure balanced by
-  // the overlap residuals); empty = none.
-  std::vector<double> radius_targets;
-  double radius_target_weight = 0.0;
-  // Volume objective: residual sqrt(volume_weight * (C - (r_i / length_scale)^p)), whose
-  // square sums to a constant minus the weighted sum of r^p: least squares then maximises
-  // the particle volume (p = Dim) or a milder power, against the overlap residuals.
-  double volume_weight = 0.0;
-  double volume_exponent = 2.0;
   // Proximal term: position_anchor_weight * (x_i - x_i at the start) / length_scale keeps
   // every solve a local step and removes the null space of underdetermined problems.
   double position_anchor_weight = 0.0;
+  // Particles free to move in this solve; empty = all. Residuals that touch no free
+  // particle are left out and the others' fixed particles are held constant, so a repair
+  // of a few defects costs in proportion to the defects, not to the packing.
+  std::vector<char> free_particles;
   // Use conjugate gradients on the normal equations (inexact steps) instead of sparse
   // Cholesky; cheaper per iteration on large 3D problems.
   bool iterative_linear_solver = false;

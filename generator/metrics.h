@@ -21,7 +21,19 @@ struct MetricsOptions {
   int orientation_bins = 36;
   // 3D overlap-corrected porosity: directions of the spherical quadrature used for the
   // particles that are cut by a neighbour or the boundary (the others are exact).
+  // NOT USED ANY MORE, kept so that existing callers compile: the cut spheres are now
+  // exact (disjoint caps) or bracketed by exact slice areas with a guaranteed bound (see
+  // union_volume.h, ball_clip_volume.h); corrected_porosity_tolerance sets the accuracy.
   int sphere_quadrature_directions = 4000;
+  // 3D overlap-corrected porosity: target for the guaranteed bound corrected_porosity_error
+  // (absolute porosity), in (0, 1). Met unless a sphere exhausts max_slices_per_sphere;
+  // the bound reached is reported either way. 2D is exact and ignores it.
+  double corrected_porosity_tolerance = 2.5e-4;
+  // 3D: most slice areas evaluated for one sphere that has no closed form, >= 8.
+  int max_slices_per_sphere = 2000;
+
+  // False (and a message naming the field, its value and the range) if a field is invalid.
+  bool IsValid(std::string* error) const;
 };
 
 template <int Dim>
@@ -47,6 +59,7 @@ struct PackingMetrics {
 
   // Overlaps over every overlapping pair in the packing (not only contacts), relative to
   // mean_radius; gaps over the contacts with a positive gap, relative to mean_radius.
+  // Pairs whose overlap is round-off (below 1e-12 mean_radius) count as touching.
   int overlapping_pairs = 0;
   double mean_overlap = 0.0;
   double max_overlap = 0.0;

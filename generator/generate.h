@@ -1,0 +1,125 @@
+#pragma once
+// generate-packing: dense isotropic packings of discs (2D) and spheres (3D) by a
+// regular-triangulation contact graph and Levenberg-Marquardt densification of centres
+// and radii (Labra 2012, section 3.2). Options in, Packing plus GeneratorSummary out.
+//
+//   GeneratorOptions options;
+//   options.particle_count = 20000;
+//   GeneratorSummary summary;
+//   Packing<2> packing = GeneratePacking(Domain<2>::Rectangle(0, 0, 50, 50), options, &summary);
+//   std::cout << summary.FullReport();
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "common/progress.h"
+#include "generator/packing.h"
+
+namespace specimen {
+
+struct GeneratorOptions {
+  // --- Size: set exactly one of the two. ---
+  // Requested volume-based mean radius [m] (Labra 3.12); the particle count follows from
+  // the domain volume and the expected porosity, so the achieved mean is close, not exact.
+  double mean_radius = 0.0;
+  // Requested number of particles; the achieved count is within a few per cent (particles
+  // that do not fit are dropped, see GeneratorSummary).
+  int particle_count = 0;
+
+  // Bound on r_max / r_min, >= 1 (Labra's assemblies: 5-10). The radii of the packing stay
+  // within [r_min, r_max] chosen around the expected mean radius.
+  double radius_ratio = 10.0;
+  // Spread (ratio of largest to smallest) of the node spacing of step 1, in [1, radius_ratio].
+  // Wider spreads give denser packings with a broader radius distribution.
+  double node_size_spread = 2.0;
+  // Step 2, Stienen factor range: initial radius = share of the neighbour distance times
+  // a uniform random factor in [initial_radius_factor_min, initial_radius_factor_max].
+  double initial_radius_factor_min = 0.9;
+  double initial_radius_factor_max = 1.1;
+
+  // Contact (bond) tolerance: pairs with |gap| <= contact_tolerance * mean radius are
+  // contacts of the output, Labra section 3.2 step 10. In (0, 0.2].
+  double contact_tolerance = 0.02;
+  // Largest overlap, relative to the mean radius, the densification may leave before the
+  // final projection removes it exactly (the projection gives back that much density).
+  double overlap_tolerance = 0.005;
+
+  // Pairs still overlapping by more than this (relative to the mean radius) after a round
+  // are folded over each other, a local minimum further rounds cannot leave: the smaller
+  // particle is removed and its hole refilled. In (overlap_tolerance, 1].
+  double conflict_overlap = 0.05;
+  // Holes that can take a particle of at least this radius (relative to the mean radius)
+  // get one, tangent to the particles around the hole (hole_filling.h). In (0, 1]; the
+  // particle radius is also bounded below by r_max / radius_ratio.
+  double hole_fill_radius = 0.1;
+
+  // Outer loop (Labra section 3.2.3): rounds of triangulation + least squares.
+  int max_rounds = 4;
+  // Levenberg-Marquardt iterations per round.
+  int max_iterations_per_round = 100;
+  // Share of (Dim + 1) N constraints selected as exact contacts in each round: with radii
+  // free, (Dim + 1) constraints per particle fix it (2D: the triangulation, 6 contacts).
+  double constraint_fraction = 1.0;
+
+  std::uint64_t seed = 1;  // same seed, same machine: identical output
+  int num_threads = 2;
+  ProgressCallback progress;  // may be empty
+
+  // Names the first invalid field, its value and the allowed range.
+  bool IsValid(std::string* error) const;
+};
+
+// The defaults that work best for each dimension (measured, see the README benchmark):
+// 2D: node spread 2, holes filled down to r_min, 4 rounds; 3D: node spread 3, holes filled
+// from 0.35 mean radii, 6 rounds.
+template <int Dim>
+GeneratorOptions DefaultGeneratorOptions();
+
+struct GeneratorRound {
+  int round = 0;
+  int particles = 0;
+  int free_particles = 0;       // particles the round let move (all in round 0)
+  int graph_edges = 0;
+  int exact_constraints = 0;  // two-sided residuals (edges + boundary ties)
+  int lm_iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  double max_overlap = 0.0;       // after the round, relative to the mean radius
+  double max_protrusion = 0.0;    // after the round, relative to the mean radius
+  double nominal_porosity = 0.0;
+  double coordination_number = 0.0;  // pairs within the contact tolerance
+  int removed_particles = 0;      // folded or not fitting at r_min: removed
+  int inserted_particles = 0;     // holes filled
+  double seconds = 0.0;           // wall time since the start of generation
+};
+
+struct GeneratorSummary {
+  std::string dimension_and_domain;
+  int particles_requested = 0;
+  int nodes_placed = 0;
+  int particles_final = 0;
+  double radius_min_bound = 0.0;
+  double radius_max_bound = 0.0;
+  std::vector<GeneratorRound> rounds;
+  double projection_max_shrink = 0.0;  // largest radius reduction of the final projection, rel.
+  int projection_removed = 0;
+  double placement_seconds = 0.0;
+  double densification_seconds = 0.0;
+  double total_seconds = 0.0;
+  std::string termination;
+
+  std::string BriefReport() const;
+  std::string FullReport() const;
+  nlohmann::json ToJson() const;
+};
+
+// Generates a packing filling `domain`. Throws InputError for invalid options or a
+// domain too small for the requested size.
+template <int Dim>
+Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& options,
+                             GeneratorSummary* summary);
+
+}  // namespace specimen

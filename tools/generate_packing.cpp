@@ -1,0 +1,147 @@
+// generate-packing: a dense isotropic packing of discs (2D) or spheres (3D) filling a
+// domain, by a regular-triangulation contact graph and Levenberg-Marquardt densification
+// of centres and radii (Labra 2012, section 3.2; see generator/generate.h).
+//
+// Sample runs:
+//   generate-packing --domain "rectangle 0 0 0.05 0.05" --count 5000 --output out/ucs
+//   generate-packing --domain "disc 0 0 0.025" --mean-radius 2.5e-4 --name bts
+//   generate-packing --domain "polygon 5 0 0 4 0 4 2 2 3 0 2" --count 2000
+//   generate-packing --domain "cylinder 0 0 0.5 0 1" --count 30000 --radius-ratio 10
+//   generate-packing --domain "box 0 0 0 1 1 1" --count 10000 --seed 7 --quiet
+//
+// Writes into --output (default out/): the packing file, VTU, Yade and LIGGGHTS exports,
+// a JSON report and pictures (see generator/packing_outputs.h); prints the generator's
+// round-by-round report and the packing metrics. Bad input: a message naming the field
+// and its allowed range, exit status 2, and no file written.
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "common/progress.h"
+#include "generator/generate.h"
+#include "generator/metrics.h"
+#include "generator/packing_outputs.h"
+#include "specimen_version.h"
+#include "tools/command_line.h"
+
+namespace specimen {
+namespace {
+
+struct CommandLine {
+  std::string domain;
+  double mean_radius = 0.0;
+  int count = 0;
+  double radius_ratio = -1.0;
+  double node_spread = -1.0;
+  std::vector<double> radius_factor;
+  double contact_tolerance = -1.0;
+  int max_rounds = -1;
+  std::uint64_t seed = 1;
+  int threads = 2;
+  PackingOutputOptions output;
+  bool quiet = false;
+};
+
+// Dimension of a domain from its first word.
+int DomainDimension(const std::string& text) {
+  std::istringstream in(text);
+  std::string shape;
+  in >> shape;
+  if (shape == "rectangle" || shape == "disc" || shape == "polygon") return 2;
+  if (shape == "box" || shape == "cylinder") return 3;
+  throw InputError("--domain: unknown domain '" + shape +
+                   "'; use rectangle, disc, polygon (2D) or box, cylinder (3D)");
+}
+
+template <int Dim>
+int Run(const CommandLine& cl) {
+  // 1. Options: the dimension's defaults, overridden by what was given.
+  const Domain<Dim> domain = Domain<Dim>::Parse(cl.domain);
+  GeneratorOptions options = DefaultGeneratorOptions<Dim>();
+  options.mean_radius = cl.mean_radius;
+  options.particle_count = cl.count;
+  if (cl.radius_ratio > 0) options.radius_ratio = cl.radius_ratio;
+  if (cl.node_spread > 0) options.node_size_spread = cl.node_spread;
+  if (cl.radius_ratio > 0 && cl.node_spread <= 0)
+    options.node_size_spread = std::min(options.node_size_spread, options.radius_ratio);
+  if (cl.radius_factor.size() == 2) {
+    options.initial_radius_factor_min = cl.radius_factor[0];
+    options.initial_radius_factor_max = cl.radius_factor[1];
+  }
+  if (cl.contact_tolerance > 0) options.contact_tolerance = cl.contact_tolerance;
+  if (cl.max_rounds > 0) options.max_rounds = cl.max_rounds;
+  options.seed = cl.seed;
+  options.num_threads = cl.threads;
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(error);
+  // 2. Fail on an unusable output location now, not after the work.
+  CheckPackingOutputLocation(cl.output);
+
+  // 3. Generate, with progress on a terminal.
+  TerminalProgress progress(cl.quiet);
+  options.progress = progress.Callback();
+  GeneratorSummary summary;
+  const Packing<Dim> packing = GeneratePacking<Dim>(domain, options, &summary);
+  progress.Finish();
+
+  // 4. Measure and write.
+  const PackingMetrics<Dim> metrics = ComputePackingMetrics<Dim>(packing);
+  nlohmann::json report;
+  report["command"] = "generate-packing";
+  report["generator"] = summary.ToJson();
+  const PackingOutputsWritten written = WritePackingOutputs<Dim>(packing, metrics, report, cl.output);
+
+  // 5. Report.
+  std::cout << summary.FullReport() << "\n" << MetricsReport<Dim>(metrics) << "\nfiles:\n";
+  for (const auto& file : written.files) std::cout << "  " << file << "\n";
+  for (const auto& warning : written.warnings) std::cerr << "warning: " << warning << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+}  // namespace specimen
+
+int main(int argc, char** argv) {
+  using namespace specimen;
+  CLI::App app{"generate-packing: dense isotropic disc (2D) and sphere (3D) packings"};
+  CommandLine cl;
+  app.set_version_flag("--version", std::string(kVersion));
+  app.add_option("--domain", cl.domain,
+                 "\"rectangle X0 Y0 X1 Y1\" | \"disc CX CY R\" | \"polygon N X1 Y1 ... XN YN\" | "
+                 "\"box X0 Y0 Z0 X1 Y1 Z1\" | \"cylinder CX CY R Z0 Z1\" (metres; cylinder axis "
+                 "along z)")
+      ->required();
+  auto* radius = app.add_option("--mean-radius", cl.mean_radius,
+                                "requested volume-based mean radius [m] (> 0)");
+  auto* count = app.add_option("--count", cl.count, "requested number of particles (>= 1)");
+  radius->excludes(count);
+  app.add_option("--radius-ratio", cl.radius_ratio, "bound on r_max / r_min (>= 1), default 10");
+  app.add_option("--node-spread", cl.node_spread,
+                 "spread of the initial node spacing, in [1, radius ratio]; default 2 (2D), 3 (3D)");
+  app.add_option("--radius-factor", cl.radius_factor,
+                 "Stienen factor range MIN MAX for the initial radii, default 0.9 1.1")
+      ->expected(2);
+  app.add_option("--contact-tolerance", cl.contact_tolerance,
+                 "pairs with |gap| <= this * mean radius are contacts (bonds), in (0, 0.2]; "
+                 "default 0.02");
+  app.add_option("--max-rounds", cl.max_rounds, "outer rounds (triangulation + LM), in [1, 100]");
+  app.add_option("--seed", cl.seed, "random seed; same seed, same machine: identical output");
+  app.add_option("--threads", cl.threads, "threads for the least-squares solver, default 2");
+  app.add_option("--output", cl.output.directory, "output directory (created), default out");
+  app.add_option("--name", cl.output.name, "file name prefix, default packing");
+  app.add_flag("--no-pictures", [&](std::int64_t) { cl.output.pictures = false; },
+               "do not draw pictures (the CSV files are still written)");
+  app.add_option("--liggghts-density", cl.output.liggghts_density_kg_per_m3,
+                 "particle density written into the LIGGGHTS file [kg/m^3], default 2650");
+  app.add_flag("--quiet", cl.quiet, "no progress display");
+  CLI11_PARSE(app, argc, argv);
+  if (cl.mean_radius <= 0.0 && cl.count <= 0 && !radius->count() && !count->count()) {
+    std::cerr << "generate-packing: error: give --count or --mean-radius\n";
+    return kExitBadInput;
+  }
+  return RunCommand("generate-packing", [&] {
+    return DomainDimension(cl.domain) == 2 ? Run<2>(cl) : Run<3>(cl);
+  });
+}
