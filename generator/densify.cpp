@@ -32,13 +32,13 @@ double EdgeResidual(const double* a, const double* b, double length_scale, doubl
 
 template <int Dim>
 double BoundaryResidual(const Domain<Dim>& domain, const BoundaryFacet<Dim>& facet,
-                        const double* particle, double length_scale, double overlap_weight,
+                        const double* particle, double length_scale, double protrusion_weight,
                         bool one_sided, double* jacobian) {
   const Eigen::Map<const Vector<Dim>> x(particle);
   const double s = domain.FacetDistance(facet, x);
   const double r = particle[Dim];
   const double raw = s * std::abs(s) - r * r;  // Labra (3.8), signed form
-  const double scale = (raw < 0.0 ? overlap_weight : (one_sided ? 0.0 : 1.0)) /
+  const double scale = (raw < 0.0 ? protrusion_weight : (one_sided ? 0.0 : 1.0)) /
                        (length_scale * length_scale);
   if (jacobian != nullptr) {
     const Vector<Dim> gradient = domain.FacetDistanceGradient(facet, x);
@@ -73,16 +73,16 @@ template <int Dim>
 class BoundaryCost final : public ceres::SizedCostFunction<1, Dim + 1> {
  public:
   BoundaryCost(const Domain<Dim>& domain, const BoundaryFacet<Dim>& facet, double length_scale,
-               double overlap_weight, bool one_sided)
+               double protrusion_weight, bool one_sided)
       : domain_(domain),
         facet_(facet),
         length_scale_(length_scale),
-        overlap_weight_(overlap_weight),
+        protrusion_weight_(protrusion_weight),
         one_sided_(one_sided) {}
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     residuals[0] = BoundaryResidual<Dim>(domain_, facet_, parameters[0], length_scale_,
-                                         overlap_weight_, one_sided_,
+                                         protrusion_weight_, one_sided_,
                                          jacobians ? jacobians[0] : nullptr);
     return true;
   }
@@ -91,7 +91,7 @@ class BoundaryCost final : public ceres::SizedCostFunction<1, Dim + 1> {
   const Domain<Dim>& domain_;
   const BoundaryFacet<Dim>& facet_;
   double length_scale_;
-  double overlap_weight_;
+  double protrusion_weight_;
   bool one_sided_;
 };
 
@@ -115,6 +115,18 @@ class PositionAnchorCost final : public ceres::SizedCostFunction<Dim, Dim + 1> {
  private:
   double anchor_[Dim];
   double weight_;
+};
+
+// Ends the solve successfully once the cost is below a threshold.
+class StopBelowCost final : public ceres::IterationCallback {
+ public:
+  explicit StopBelowCost(double threshold) : threshold_(threshold) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    return summary.cost < threshold_ ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  double threshold_;
 };
 
 }  // namespace
@@ -167,7 +179,7 @@ LevenbergMarquardtSummary SolveLevenbergMarquardt(const Domain<Dim>& domain,
     const bool one_sided = !options.tie_one_sided.empty() && options.tie_one_sided[k];
     problem.AddResidualBlock(
         new BoundaryCost<Dim>(domain, domain.Facets()[tie.second], options.length_scale,
-                              options.overlap_weight, one_sided),
+                              options.protrusion_weight, one_sided),
         nullptr, &parameters[tie.first * (Dim + 1)]);
   }
   if (options.position_anchor_weight > 0.0) {
@@ -201,6 +213,8 @@ LevenbergMarquardtSummary SolveLevenbergMarquardt(const Domain<Dim>& domain,
   solver_options.parameter_tolerance = options.parameter_tolerance;
   solver_options.num_threads = options.num_threads;
   solver_options.logging_type = ceres::SILENT;
+  StopBelowCost stop(options.stop_cost);
+  if (options.stop_cost > 0.0) solver_options.callbacks.push_back(&stop);
   solver_options.minimizer_progress_to_stdout = false;
 
   ceres::Solver::Summary ceres_summary;

@@ -27,10 +27,18 @@ struct LevenbergMarquardtOptions {
   // square so that the solver's tolerances are scale-free.
   double length_scale = 1.0;
   int max_iterations = 50;
+  // Stop as soon as the cost (half the sum of squared residuals) is below this: once every
+  // residual is far inside the tolerances that matter, further iterations only polish
+  // round-off (and near a solution CGNR steps get expensive). 0 = off.
+  double stop_cost = 0.0;
   double function_tolerance = 1e-12;
   double gradient_tolerance = 1e-14;
   double parameter_tolerance = 1e-12;
   int num_threads = 1;
+  // Extra weight on boundary residuals of particles beyond their facet: a protrusion is
+  // never acceptable downstream, an interior gap is, so a least-squares compromise should
+  // land in the interior.
+  double protrusion_weight = 10.0;
   // Edges and ties flagged here are one-sided (residual only when overlapping): pairs
   // that are neighbours but not contacts must not be pushed together, only kept apart.
   std::vector<char> edge_one_sided;   // per graph edge; empty = all two-sided
@@ -71,7 +79,7 @@ double EdgeResidual(const double* particle_i, const double* particle_j, double l
                     double overlap_weight, bool one_sided, double* jacobian_i, double* jacobian_j);
 template <int Dim>
 double BoundaryResidual(const Domain<Dim>& domain, const BoundaryFacet<Dim>& facet,
-                        const double* particle, double length_scale, double overlap_weight,
+                        const double* particle, double length_scale, double protrusion_weight,
                         bool one_sided, double* jacobian);
 
 }  // namespace specimen

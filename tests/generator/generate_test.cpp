@@ -1,0 +1,116 @@
+// End-to-end tests of the generator on small specimens (the large cases are benchmarks).
+#include "generator/generate.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.h"
+#include "generator/metrics.h"
+
+namespace specimen {
+namespace {
+
+template <int Dim>
+Packing<Dim> Generate(const Domain<Dim>& domain, int count, std::uint64_t seed,
+                      GeneratorSummary* summary = nullptr) {
+  GeneratorOptions options = DefaultGeneratorOptions<Dim>();
+  options.particle_count = count;
+  options.seed = seed;
+  return GeneratePacking<Dim>(domain, options, summary);
+}
+
+// The acceptance case: ~2,000 discs, porosity <= 12 %, nc >= 5.5, nothing outside
+// the domain, fabric 0.5 +- 0.03.
+TEST(GeneratePacking, TwoThousandDiscsInASquare) {
+  GeneratorSummary summary;
+  const auto packing = Generate<2>(Domain<2>::Rectangle(0, 0, 20, 20), 2000, 1, &summary);
+  const auto m = ComputePackingMetrics<2>(packing);
+  EXPECT_NEAR(m.particle_count, 2000, 200) << summary.FullReport();
+  EXPECT_LE(m.nominal_porosity, 0.12);
+  EXPECT_GE(m.coordination_number, 5.5);
+  EXPECT_EQ(m.protruding_particles, 0);
+  EXPECT_EQ(m.max_protrusion, 0.0);
+  EXPECT_EQ(m.overlapping_pairs, 0);
+  EXPECT_NEAR(m.fabric_eigenvalues[0], 0.5, 0.03);
+  EXPECT_NEAR(m.fabric_eigenvalues[1], 0.5, 0.03);
+  EXPECT_LE(m.radius_ratio, 10.0 + 1e-9);
+  // Contacts honour the tolerance.
+  for (const auto& c : packing.contacts)
+    EXPECT_LE(std::abs(packing.Gap(c[0], c[1])), 0.02 * m.mean_radius * (1 + 1e-12));
+}
+
+TEST(GeneratePacking, SameSeedSameOutputDifferentSeedDifferentOutput) {
+  const auto domain = Domain<2>::Rectangle(0, 0, 10, 10);
+  const auto a = Generate<2>(domain, 500, 42);
+  const auto b = Generate<2>(domain, 500, 42);
+  const auto c = Generate<2>(domain, 500, 43);
+  ASSERT_EQ(a.size(), b.size());
+  for (int i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a.radii[i], b.radii[i]);
+    EXPECT_EQ(a.centres[i], b.centres[i]);
+  }
+  EXPECT_EQ(a.contacts, b.contacts);
+  EXPECT_TRUE(a.size() != c.size() || a.radii != c.radii);
+}
+
+TEST(GeneratePacking, DiscAndNonConvexPolygonDomains) {
+  for (const auto& domain :
+       {Domain<2>::Disc(Vector<2>(0, 0), 5.0),
+        Domain<2>::Polygon({{0, 0}, {10, 0}, {10, 4}, {4, 4}, {4, 10}, {0, 10}})}) {
+    const auto packing = Generate<2>(domain, 800, 3);
+    const auto m = ComputePackingMetrics<2>(packing);
+    EXPECT_EQ(m.protruding_particles, 0) << domain.ToText();
+    EXPECT_EQ(m.overlapping_pairs, 0) << domain.ToText();
+    EXPECT_LE(m.nominal_porosity, 0.15) << domain.ToText();
+    EXPECT_GE(m.coordination_number, 5.0) << domain.ToText();
+  }
+}
+
+TEST(GeneratePacking, SmallCylinderIn3D) {
+  GeneratorSummary summary;
+  const auto packing = Generate<3>(Domain<3>::Cylinder(0, 0, 0.5, 0, 1), 1500, 1, &summary);
+  const auto m = ComputePackingMetrics<3>(packing);
+  EXPECT_GT(m.particle_count, 1200) << summary.FullReport();
+  EXPECT_EQ(m.protruding_particles, 0);
+  EXPECT_EQ(m.overlapping_pairs, 0);
+  EXPECT_LE(m.nominal_porosity, 0.45);
+  EXPECT_GE(m.coordination_number, 5.0);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(m.fabric_eigenvalues[k], 1.0 / 3.0, 0.03);
+}
+
+TEST(GeneratePacking, BadOptionsNameTheField) {
+  const auto domain = Domain<2>::Rectangle(0, 0, 10, 10);
+  auto expect_message = [&](GeneratorOptions options, const std::string& field) {
+    try {
+      GeneratePacking<2>(domain, options, nullptr);
+      FAIL() << "accepted bad " << field;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
+  GeneratorOptions none;
+  expect_message(none, "mean_radius");
+  GeneratorOptions both;
+  both.mean_radius = 0.1;
+  both.particle_count = 100;
+  expect_message(both, "exactly one");
+  GeneratorOptions ratio;
+  ratio.particle_count = 100;
+  ratio.radius_ratio = 0.5;
+  expect_message(ratio, "radius_ratio");
+  GeneratorOptions negative;
+  negative.mean_radius = -1.0;
+  expect_message(negative, "mean_radius");
+  GeneratorOptions tolerance;
+  tolerance.particle_count = 100;
+  tolerance.contact_tolerance = 0.5;
+  expect_message(tolerance, "contact_tolerance");
+  GeneratorOptions too_big;
+  too_big.mean_radius = 3.0;  // a 10 x 10 square holds about three such discs
+  expect_message(too_big, "too small");
+}
+
+}  // namespace
+}  // namespace specimen

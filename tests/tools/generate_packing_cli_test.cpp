@@ -1,0 +1,90 @@
+// The generate-packing command as a user runs it: exit status, messages, files.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "generator/packing_io.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+Result RunCommandLine(const std::string& arguments) {
+  const std::string command = std::string(SPECIMEN_BINARY_DIR) + "/tools/generate-packing " +
+                              arguments + " --quiet 2>&1";
+  Result result;
+  FILE* pipe = popen(command.c_str(), "r");
+  char buffer[4096];
+  while (fgets(buffer, sizeof(buffer), pipe)) result.output += buffer;
+  const int raw = pclose(pipe);
+  result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return result;
+}
+
+fs::path FreshDirectory(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("specimen_cli_" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+bool EmptyOrMissing(const fs::path& dir) { return !fs::exists(dir) || fs::is_empty(dir); }
+
+TEST(GeneratePackingCommand, WritesEveryFileAndTheyReadBack) {
+  const fs::path dir = FreshDirectory("ok");
+  const Result r = RunCommandLine("--domain \"rectangle 0 0 10 10\" --count 400 --output " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* file : {"packing.packing", "packing.vtu", "packing_yade.txt", "packing.liggghts",
+                           "packing_report.json", "packing_radii.csv", "packing_orientation.csv"})
+    EXPECT_TRUE(fs::exists(dir / file)) << file;
+  EXPECT_NE(r.output.find("coordination number"), std::string::npos);
+  const auto packing = specimen::LoadPacking<2>((dir / "packing.packing").string());
+  EXPECT_GT(packing.size(), 300);
+}
+
+TEST(GeneratePackingCommand, BadInputExitsWithTwoAndWritesNothing) {
+  struct Case {
+    std::string arguments;
+    std::string must_mention;
+  };
+  const Case cases[] = {
+      {"--domain \"hexagon 0 0 1\" --count 100", "unknown domain"},
+      {"--domain \"rectangle 0 0 -5 10\" --count 100", "width"},
+      {"--domain \"rectangle 0 0 10 10\" --count 100 --radius-ratio 0.5", "radius_ratio"},
+      {"--domain \"rectangle 0 0 10 10\" --mean-radius -0.1", "mean_radius"},
+      {"--domain \"rectangle 0 0 1 1\" --mean-radius 0.4", "too small"},
+      {"--domain \"polygon 4 0 0 1 1 1 0 0 1\" --count 100", "self-intersecting"},
+      {"--domain \"cylinder 0 0 0.5 1 1\" --count 100", "cylinder length"},
+      {"--domain \"rectangle 0 0 10 10\" --count 100 --contact-tolerance 0.9", "contact_tolerance"},
+  };
+  for (const Case& c : cases) {
+    const fs::path dir = FreshDirectory("bad");
+    const Result r = RunCommandLine(c.arguments + " --output " + dir.string());
+    EXPECT_EQ(r.status, 2) << c.arguments << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.must_mention), std::string::npos) << c.arguments << "\n" << r.output;
+    EXPECT_TRUE(EmptyOrMissing(dir)) << c.arguments;
+  }
+}
+
+TEST(GeneratePackingCommand, UnwritableOutputFailsBeforeWork) {
+  const Result r = RunCommandLine("--domain \"rectangle 0 0 10 10\" --count 100 --output /proc/specimen_no");
+  EXPECT_EQ(r.status, 3) << r.output;
+  EXPECT_NE(r.output.find("output directory"), std::string::npos) << r.output;
+}
+
+TEST(GeneratePackingCommand, MissingSizeIsReported) {
+  const Result r = RunCommandLine("--domain \"rectangle 0 0 10 10\"");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--count"), std::string::npos) << r.output;
+}
+
+}  // namespace
