@@ -451,6 +451,9 @@ Domain<Dim> Domain<Dim>::Parse(const std::string& text) {
     }
     if (name == "polygon") {
       if (values.empty()) throw InputError("domain polygon needs a vertex count");
+      if (!(values[0] >= 3.0) || values[0] != std::floor(values[0]) || values[0] > 1e6)
+        throw InputError("domain polygon: vertex count " + ExactDouble(values[0]) +
+                         " is not allowed: it must be a whole number >= 3");
       const size_t count = static_cast<size_t>(values[0]);
       expect(1 + 2 * count);
       std::vector<Vector<2>> vertices;

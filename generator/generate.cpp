@@ -15,6 +15,7 @@
 #include "generator/densify.h"
 #include "generator/hole_filling.h"
 #include "generator/initial_placement.h"
+#include "specimen_version.h"
 
 namespace specimen {
 namespace {
@@ -471,6 +472,7 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
   packing.centres = std::move(x);
   packing.radii = std::move(r);
   packing.seed = options.seed;
+  packing.created_by = std::string("specimen generate-packing ") + kVersion;
   graph = BuildContactGraph<Dim>(domain, packing.centres, packing.radii, ghost_band);
   SetContactsFromCandidates<Dim>(packing, graph.edges, options.contact_tolerance);
   s.particles_final = packing.size();

@@ -95,6 +95,8 @@ TEST(Domain, BadInputNamesTheField) {
   EXPECT_THROW(Domain<3>::Parse("rectangle 0 0 1 1"), InputError);
   EXPECT_THROW(Domain<2>::Parse("rectangle 0 0 1"), InputError);
   EXPECT_THROW(Domain<2>::Parse("rectangle 0 0 1 x"), InputError);
+  EXPECT_THROW(Domain<2>::Parse("polygon -1 0 0"), InputError);
+  EXPECT_THROW(Domain<2>::Parse("polygon 2.5 0 0 1 0 1 1"), InputError);
 }
 
 TEST(Domain, SimplePolygonCheck) {

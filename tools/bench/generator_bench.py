@@ -96,10 +96,15 @@ InsertGenerator3D(minRadius=rmin, maxRadius=rmax, insertFails=1000, maxIteration
                   tolerance=1e-6, seed=False).generatePacking(volume=vol, ntable=table, tag=0)
 seconds = time.time() - start
 table.generateBonds(groupID=0, tolerance=1e-5, bondID=0)
-spheres = table.getSphereListFromGroup(0)
-n = len(spheres)
+import os, tempfile
+path = tempfile.mktemp(suffix=".geo")
+table.write(path, 1)
+lines = open(path).read().split("\n")
+os.unlink(path)
+n = int(lines[lines.index("BeginParticles") + 2])
+bonds = int(lines[lines.index("BeginConnect") + 1])
 print(json.dumps({"seconds": seconds, "particles": n, "porosity": 1 - table.getSumVolume(groupID=0) / (3.141592653589793 * 0.25),
-                  "coordination": float("nan")}))
+                  "coordination": 2.0 * bonds / n}))
 """
 
 YADE_3D = r"""
@@ -220,7 +225,7 @@ def main():
                                  "radius_ratio": 10.0, "peak_mib": float("nan")})
     else:
         print("  GenGeo not installed (apt-get install python3-gengeo): no side-by-side run", file=sys.stderr)
-    yade = run_yade(0.0165 if not args.quick else 0.035)
+    yade = run_yade(0.015 if not args.quick else 0.035)
     if yade and "error" not in yade:
         summary_rows.append({"case": cases[1][0], "generator": "Yade randomDensePack", **yade,
                              "corrected_porosity": float("nan"), "max_overlap": float("nan"), "fabric": [],
@@ -280,8 +285,8 @@ def main():
             for dim, ns in sizes.items():
                 measured = []
                 for n in ns:
-                    domain = ("rectangle 0 0 %r %r" % ((n * math.pi * 0.223 ** 2 / 0.91) ** 0.5,) * 2) if dim == 2 \
-                        else "cylinder 0 0 0.5 0 1"
+                    side = (n * math.pi * 0.223 ** 2 / 0.91) ** 0.5
+                    domain = "rectangle 0 0 %r %r" % (side, side) if dim == 2 else "cylinder 0 0 0.5 0 1"
                     runs = [generate(args.build, work, domain, "--count", n, seed, "scale%dd" % dim)
                             for seed in range(1, (args.runs if n <= 30000 else 1) + 1)]
                     t = statistics.median(r["seconds"] for r in runs)
