@@ -129,6 +129,22 @@ class StopBelowCost final : public ceres::IterationCallback {
   double threshold_;
 };
 
+// Hands the state to LevenbergMarquardtOptions::on_iteration after each iteration.
+class ReportIteration final : public ceres::IterationCallback {
+ public:
+  ReportIteration(const std::function<void(int, const std::vector<double>&)>& report,
+                  const std::vector<double>& blocks)
+      : report_(report), blocks_(blocks) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    report_(summary.iteration, blocks_);
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::function<void(int, const std::vector<double>&)>& report_;
+  const std::vector<double>& blocks_;
+};
+
 }  // namespace
 
 template <int Dim>
@@ -215,6 +231,11 @@ LevenbergMarquardtSummary SolveLevenbergMarquardt(const Domain<Dim>& domain,
   solver_options.logging_type = ceres::SILENT;
   StopBelowCost stop(options.stop_cost);
   if (options.stop_cost > 0.0) solver_options.callbacks.push_back(&stop);
+  ReportIteration report(options.on_iteration, parameters);
+  if (options.on_iteration) {
+    solver_options.update_state_every_iteration = true;
+    solver_options.callbacks.push_back(&report);
+  }
   solver_options.minimizer_progress_to_stdout = false;
 
   ceres::Solver::Summary ceres_summary;

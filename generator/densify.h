@@ -50,6 +50,9 @@ struct LevenbergMarquardtOptions {
   // particle are left out and the others' fixed particles are held constant, so a repair
   // of a few defects costs in proportion to the defects, not to the packing.
   std::vector<char> free_particles;
+  // Called after every iteration with the current [x, r] blocks (size N (Dim + 1)) when set;
+  // for convergence traces (benchmarks), it costs a copy of the state per iteration.
+  std::function<void(int iteration, const std::vector<double>& blocks)> on_iteration;
   // Use conjugate gradients on the normal equations (inexact steps) instead of sparse
   // Cholesky; cheaper per iteration on large 3D problems.
   bool iterative_linear_solver = false;

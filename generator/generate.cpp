@@ -399,6 +399,27 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
     const double gap_limit = round == 0 ? std::numeric_limits<double>::infinity() : drop_gap;
     SelectExactConstraints<Dim>(domain, graph, x, r, exact_count, gap_limit, &lm);
     lm.free_particles = free_particles;
+    if (options.record_trace) {
+      const int iterations_before = s.trace.empty() ? 0 : s.trace.back().lm_iterations;
+      lm.on_iteration = [&, iterations_before, round](int iteration, const std::vector<double>& blocks) {
+        GeneratorTracePoint point;
+        point.round = round;
+        point.lm_iterations = iterations_before + iteration;
+        point.seconds = SecondsSince(start);
+        double volume = 0.0, worst = 0.0;
+        for (size_t i = 0; i < x.size(); ++i) volume += ParticleVolume<Dim>(blocks[i * (Dim + 1) + Dim]);
+        for (const auto& e : graph.edges) {
+          const double* a = &blocks[e[0] * (Dim + 1)];
+          const double* b = &blocks[e[1] * (Dim + 1)];
+          double distance = 0.0;
+          for (int k = 0; k < Dim; ++k) distance += (a[k] - b[k]) * (a[k] - b[k]);
+          worst = std::max(worst, a[Dim] + b[Dim] - std::sqrt(distance));
+        }
+        point.nominal_porosity = 1.0 - volume / domain.Volume();
+        point.max_overlap = worst / expected_mean_radius;
+        s.trace.push_back(point);
+      };
+    }
     lm.stop_cost = 0.5 * static_cast<double>(exact_count) * stop_residual * stop_residual;
     const LevenbergMarquardtSummary solve = SolveLevenbergMarquardt<Dim>(domain, graph, lm, x, r);
 
@@ -466,6 +487,16 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
   s.projection_max_shrink =
       ProjectToNonOverlapping<Dim>(domain, radius_min, ghost_band, x, r, &s.projection_removed) /
       VolumeMeanRadius<Dim>(r);
+
+  if (options.record_trace) {
+    GeneratorTracePoint point;
+    point.round = static_cast<int>(s.rounds.size());
+    point.lm_iterations = s.trace.empty() ? 0 : s.trace.back().lm_iterations;
+    point.seconds = SecondsSince(start);
+    point.nominal_porosity = NominalPorosity<Dim>(domain, r);
+    point.max_overlap = 0.0;  // the projection leaves none
+    s.trace.push_back(point);
+  }
 
   // --- Step 5: output, contacts = pairs within the contact tolerance. ---
   Packing<Dim> packing(domain);
@@ -545,6 +576,12 @@ nlohmann::json GeneratorSummary::ToJson() const {
                            {"inserted_particles", r.inserted_particles},
                            {"seconds", r.seconds}});
   }
+  for (const auto& t : trace)
+    j["trace"].push_back({{"round", t.round},
+                          {"lm_iterations", t.lm_iterations},
+                          {"seconds", t.seconds},
+                          {"nominal_porosity", t.nominal_porosity},
+                          {"max_overlap", t.max_overlap}});
   j["projection_max_shrink"] = projection_max_shrink;
   j["projection_removed"] = projection_removed;
   j["placement_seconds"] = placement_seconds;

@@ -64,6 +64,11 @@ struct GeneratorOptions {
   // free, (Dim + 1) constraints per particle fix it (2D: the triangulation, 6 contacts).
   double constraint_fraction = 1.0;
 
+  // Record porosity and largest overlap after every Levenberg-Marquardt iteration in
+  // GeneratorSummary::trace (for error-against-run-time studies; costs one pass over the
+  // graph per iteration).
+  bool record_trace = false;
+
   std::uint64_t seed = 1;  // same seed, same machine: identical output
   int num_threads = 2;
   ProgressCallback progress;  // may be empty
@@ -96,6 +101,15 @@ struct GeneratorRound {
   double seconds = 0.0;           // wall time since the start of generation
 };
 
+// One point of the convergence trace.
+struct GeneratorTracePoint {
+  int round = 0;
+  int lm_iterations = 0;         // cumulative over rounds
+  double seconds = 0.0;          // since the start of generation
+  double nominal_porosity = 0.0;
+  double max_overlap = 0.0;      // over the graph edges, relative to the expected mean radius
+};
+
 struct GeneratorSummary {
   std::string dimension_and_domain;
   int particles_requested = 0;
@@ -104,6 +118,7 @@ struct GeneratorSummary {
   double radius_min_bound = 0.0;
   double radius_max_bound = 0.0;
   std::vector<GeneratorRound> rounds;
+  std::vector<GeneratorTracePoint> trace;  // only with GeneratorOptions::record_trace
   double projection_max_shrink = 0.0;  // largest radius reduction of the final projection, rel.
   int projection_removed = 0;
   double placement_seconds = 0.0;

@@ -42,6 +42,7 @@ struct CommandLine {
   int threads = 2;
   PackingOutputOptions output;
   bool quiet = false;
+  bool trace = false;
 };
 
 // Dimension of a domain from its first word.
@@ -74,6 +75,7 @@ int Run(const CommandLine& cl) {
   if (cl.max_rounds > 0) options.max_rounds = cl.max_rounds;
   options.seed = cl.seed;
   options.num_threads = cl.threads;
+  options.record_trace = cl.trace;
   std::string error;
   if (!options.IsValid(&error)) throw InputError(error);
   // 2. Fail on an unusable output location now, not after the work.
@@ -136,6 +138,8 @@ int main(int argc, char** argv) {
   app.add_option("--liggghts-density", cl.output.liggghts_density_kg_per_m3,
                  "particle density written into the LIGGGHTS file [kg/m^3], default 2650");
   app.add_flag("--quiet", cl.quiet, "no progress display");
+  app.add_flag("--trace", cl.trace,
+               "record porosity and largest overlap after every LM iteration in the JSON report");
   CLI11_PARSE(app, argc, argv);
   if (cl.mean_radius <= 0.0 && cl.count <= 0 && !radius->count() && !count->count()) {
     std::cerr << "generate-packing: error: give --count or --mean-radius\n";
