@@ -1,0 +1,43 @@
+#pragma once
+// Particle state as a structure of arrays: one flat array per quantity, indexed like the
+// packing. Masses and inertias follow Madan (2.3)-(2.4): 2D discs of thickness l = 1 m,
+// m = rho pi R^2 l, J = m R^2 / 2; 3D spheres, m = 4/3 rho pi R^3, J = 2/5 m R^2.
+//
+// Time levels (central differences, Madan (2.9)-(2.13)): between steps, positions are at
+// t_n and velocities at t_{n-1/2}; a step computes forces at t_n and advances the
+// velocities to t_{n+1/2} and the positions to t_{n+1}.
+
+#include <vector>
+
+#include "generator/packing.h"
+#include "solver/material.h"
+#include "solver/vector_algebra.h"
+
+namespace specimen {
+
+template <int Dim>
+struct ParticleArrays {
+  std::vector<Vector<Dim>> position;           // centre [m]
+  std::vector<Vector<Dim>> velocity;           // [m/s], at the half step
+  std::vector<Angular<Dim>> angular_velocity;  // [rad/s], at the half step
+  // 2D: accumulated rotation angle [rad]. 3D: empty; rotations are incremental and the
+  // orientation is not tracked (Labra section 2.6: the contact law does not need it).
+  std::vector<double> rotation_angle;
+  std::vector<double> radius;           // [m]
+  std::vector<double> mass;             // [kg]
+  std::vector<double> inverse_mass;     // [1/kg]
+  std::vector<double> inverse_inertia;  // [1/(kg m^2)]
+  // DDEM particle strain (Madan (2.46)), from the forces of the last evaluated step; the
+  // next step's contact pass reads it. Empty for rigid particles.
+  std::vector<SymmetricTensor<Dim>> strain;
+
+  int size() const { return static_cast<int>(radius.size()); }
+};
+
+// Particles at rest at the packing's centres. Throws InputError naming the first particle
+// with a radius that is not finite and > 0, or a centre that is not finite.
+template <int Dim>
+ParticleArrays<Dim> BuildParticles(const Packing<Dim>& packing, const MaterialParameters& material,
+                                   bool deformable);
+
+}  // namespace specimen

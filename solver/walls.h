@@ -1,0 +1,104 @@
+#pragma once
+// Rigid plane walls (platens) with their own contact stiffness. A wall is a plane through
+// `point` with unit `normal` pointing to the particles' side. A particle touches it when
+// its (deformed) surface crosses the plane:
+//   gap = (x - point) . normal - R  [- R normal.eps.normal in DDEM scenes, Madan (2.53)],
+//   force on the particle = -k_wall gap normal for gap < 0 (compression only),
+// plus optional Coulomb friction (tangential spring k_t,wall, radial return with mu_wall)
+// and the normal dashpot of the scene (ratio xi_n of 2 sqrt(m k_wall)). The wall force on
+// a particle enters its DDEM stress like a contact force at the contact point s = -R normal.
+//
+// Walls translate only. A velocity-driven wall follows its prescribed velocity; a
+// force-driven wall has a mass and moves along its normal under the applied force and the
+// particles' reaction (no servo). The work of the drive (prescribed motion or applied
+// force) is the wall's external work; the energy of the wall springs is contact energy.
+
+#include <string>
+#include <vector>
+
+#include "solver/loads.h"
+#include "solver/vector_algebra.h"
+
+namespace specimen {
+
+template <int Dim>
+struct SceneState;
+
+enum class WallDrive {
+  kVelocity,  // prescribed velocity (zero: a fixed wall)
+  kForce,     // prescribed force towards the particles, the wall has a mass
+};
+
+template <int Dim>
+struct WallOptions {
+  std::string name;                           // for reports, e.g. "top platen"
+  Vector<Dim> point = Vector<Dim>::Zero();    // a point of the plane at t = 0 [m]
+  Vector<Dim> normal = Vector<Dim>::Zero();   // towards the particles; normalised on use
+  double normal_stiffness_n_per_m = 0.0;      // k_wall > 0 [N/m]
+  double tangential_stiffness_n_per_m = 0.0;  // >= 0; 0 = frictionless wall
+  double friction_coefficient = 0.0;          // mu_wall >= 0 (needs a tangential stiffness)
+  WallDrive drive = WallDrive::kVelocity;
+  // kVelocity: wall velocity [m/s] = velocity * velocity_amplitude(t).
+  Vector<Dim> velocity = Vector<Dim>::Zero();
+  Amplitude velocity_amplitude;
+  // kForce: force pushing the wall towards the particles (along +normal) [N] times
+  // force_amplitude(t); the wall mass [kg] > 0; damped by the scene's alpha_t.
+  double applied_force_n = 0.0;
+  Amplitude force_amplitude;
+  double mass_kg = 0.0;
+
+  bool friction() const { return tangential_stiffness_n_per_m > 0.0 && friction_coefficient > 0.0; }
+  bool IsValid(std::string* error) const;
+};
+
+// The state of one wall during a run.
+template <int Dim>
+struct WallState {
+  WallOptions<Dim> options;
+  Vector<Dim> normal = Vector<Dim>::Zero();    // unit
+  Vector<Dim> point = Vector<Dim>::Zero();     // current point of the plane (t_n)
+  Vector<Dim> velocity = Vector<Dim>::Zero();  // at the last half step
+  // Total force the particles exert on the wall at the last evaluation [N].
+  Vector<Dim> force_on_wall = Vector<Dim>::Zero();
+  // Force of the drive on the wall at the last evaluation (for the trapezoidal work).
+  Vector<Dim> previous_drive_force = Vector<Dim>::Zero();
+  double work_j = 0.0;  // work of the drive since t = 0
+  double displacement_since_search = 0.0;
+  // Candidate contacts, sorted by particle: particles within the search skin of the plane.
+  std::vector<int> particle;
+  std::vector<double> normal_elastic_force;   // k_wall gap (<= 0) [N]
+  std::vector<Vector<Dim>> tangential_force;  // spring force on the particle [N]
+  // Merge buffers for the candidate rebuild (kept to avoid allocation in the loop).
+  std::vector<int> scratch_particle;
+  std::vector<double> scratch_normal_force;
+  std::vector<Vector<Dim>> scratch_tangential_force;
+
+  // The compressive reaction, -force_on_wall . normal (>= 0 when pushed) [N].
+  double NormalReaction() const { return -force_on_wall.dot(normal); }
+};
+
+struct WallPassTotals {
+  double work_j = 0.0;                 // drive work increment of this step
+  double supplied_j = 0.0;             // sum of |work increments| of the walls
+  double kinetic_energy_j = 0.0;       // force-driven walls, 1/2 M v_- . v_+
+  double damping_dissipation_j = 0.0;  // force-driven walls
+  double dashpot_dissipation_j = 0.0;
+  double friction_dissipation_j = 0.0;
+  double max_force_n = 0.0;
+  bool finite = true;
+};
+
+// Contact forces of every wall on its candidates at t_n; adds them to the particles'
+// external force, moment and (DDEM) surface moment accumulators; sums the reaction on each
+// wall; accumulates the drive work; moves the walls to t_{n+1} (force-driven walls by
+// central differences under the applied force, the reaction and the local damping alpha_t).
+template <int Dim>
+void WallPass(SceneState<Dim>& state, bool deformable, bool rotation, bool dashpots,
+              WallPassTotals* totals);
+
+// Rebuilds each wall's candidate list (particles whose surface is within `skin` of the
+// plane), carrying the tangential history of candidates that stay.
+template <int Dim>
+void RebuildWallCandidates(SceneState<Dim>& state, double skin);
+
+}  // namespace specimen
