@@ -1,0 +1,87 @@
+#pragma once
+// Inversion of the micro-macro maps (issue 6): the micro ratios (kt/kn, Rt/Rn, mu,
+// kn/(Ep l), nu_p) that reproduce a target nu and sigma_c / sigma_t, then kn and Rn from
+// the elastic and strength groups, which scale exactly (E ~ kn, strengths ~ Rn at fixed
+// ratios; dimensionless_groups.h).
+//
+//   minimise  w_nu (nu(x) / nu* - 1)^2 + w_ratio ((Psi_c / Psi_t)(x) / (sigma_c/sigma_t)* - 1)^2
+//   over the map's box, subject to kn/(Ep l) <= admissible(nu_p) (the DDEM convergence
+//   bound rho(B) <= limit, Madan section 3), with NLopt SLSQP and the maps' gradients,
+//   from several starts. A target the maps cannot reach is reported with the closest
+//   achievable set and which strength was honoured, never silently.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "calibrate/dimensionless_groups.h"
+#include "calibrate/response_surface.h"
+#include "calibrate/target_material.h"
+
+namespace specimen {
+
+// The dimensionless micro parameters of a calibration.
+struct MicroRatios {
+  double tangential_to_normal_stiffness = 0.0;  // kt / kn
+  double shear_to_tensile_strength = 1.0;       // Rt / Rn
+  double friction_coefficient = 0.0;            // mu
+  double normal_stiffness_to_particle = 0.0;    // kn / (Ep l); 0 = rigid particles
+  double particle_poisson_ratio = 0.0;          // nu_p
+};
+
+// Names of the ratios as map inputs.
+enum class MicroRatio { kStiffnessRatio, kStrengthRatio, kFriction, kParticleCompliance, kParticlePoisson };
+std::string MicroRatioName(MicroRatio ratio);
+
+// Response surfaces of the four macro quantities over the same inputs.
+struct MapSet {
+  std::vector<MicroRatio> inputs;  // the ratios that vary, in the surfaces' input order
+  MicroRatios fixed;               // values of the ratios that do not vary
+  ResponseSurface poisson_ratio;   // nu (2D: plane strain)
+  ResponseSurface elastic_group;   // Psi_E
+  ResponseSurface compressive_group;  // Psi_c
+  ResponseSurface tensile_group;      // Psi_t
+
+  MicroRatios RatiosAt(const std::vector<double>& x) const;
+  std::vector<double> InputsOf(const MicroRatios& ratios) const;
+};
+
+enum class HonouredStrength { kCompressive, kTensile };
+
+struct InversionOptions {
+  double poisson_weight = 1.0;
+  double strength_ratio_weight = 1.0;
+  // Largest admissible kn/(Ep l) for a given nu_p (the DDEM convergence bound at the
+  // required rho(B) margin); empty = no DDEM constraint (rigid maps).
+  std::function<double(double particle_poisson_ratio)> admissible_particle_compliance;
+  // When sigma_c / sigma_t cannot be matched, which strength Rn is taken from.
+  HonouredStrength honour = HonouredStrength::kCompressive;
+  int starts = 12;                 // multi-start points (deterministic)
+  double relative_tolerance = 1e-3;  // a target within this is "reached"
+};
+
+struct InversionResult {
+  MicroRatios ratios;
+  double normal_stiffness = 0.0;      // kn [N/m]
+  double tangential_stiffness = 0.0;  // kt
+  double bond_tensile_strength = 0.0; // Rn [N]
+  double bond_shear_strength = 0.0;   // Rt
+  double particle_youngs_modulus = 0.0;  // Ep [Pa], 0 = rigid
+  // Predicted macro values and relative errors against the target.
+  double youngs_modulus = 0.0, poisson_ratio = 0.0, ucs = 0.0, tensile_strength = 0.0;
+  double error_youngs = 0.0, error_poisson = 0.0, error_ucs = 0.0, error_tensile = 0.0;
+  bool strength_ratio_reached = true;
+  bool poisson_reached = true;
+  HonouredStrength honoured = HonouredStrength::kCompressive;
+  std::vector<std::string> notes;  // unreachable targets and why
+
+  nlohmann::json ToJson() const;
+  std::string FullReport() const;
+};
+
+InversionResult InvertMaps(const MapSet& maps, const PackingDescriptors& packing,
+                           const TargetMaterial& target, const InversionOptions& options);
+
+}  // namespace specimen

@@ -1,0 +1,145 @@
+#include "calibrate/inversion.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+namespace specimen {
+namespace {
+
+// Maps sampled from known smooth functions on a grid, fitted like real sweep results.
+ResponseSurface Sample(const std::vector<std::vector<double>>& axes,
+                       const std::function<double(const std::vector<double>&)>& f) {
+  std::vector<std::vector<double>> points(1);
+  for (const auto& axis : axes) {
+    std::vector<std::vector<double>> next;
+    for (const auto& p : points)
+      for (double v : axis) {
+        auto q = p;
+        q.push_back(v);
+        next.push_back(q);
+      }
+    points = next;
+  }
+  Eigen::MatrixXd x(points.size(), axes.size());
+  Eigen::VectorXd y(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    for (size_t k = 0; k < axes.size(); ++k) x(i, k) = points[i][k];
+    y[i] = f(points[i]);
+  }
+  return ResponseSurface::Fit(x, y);
+}
+
+std::vector<double> Linspace(double a, double b, int n) {
+  std::vector<double> v;
+  for (int i = 0; i < n; ++i) v.push_back(a + (b - a) * i / (n - 1));
+  return v;
+}
+
+PackingDescriptors Packing2D() {
+  PackingDescriptors d;
+  d.dimension = 2;
+  d.porosity = 0.092;
+  d.coordination = 5.98;
+  d.mean_radius_squared = 0.04e-6;
+  d.mean_branch_length = 0.4e-3;
+  d.mean_branch_length_squared = 0.17e-6;
+  return d;
+}
+
+TargetMaterial Labra() {
+  TargetMaterial t;
+  t.youngs_modulus_pa = 18.691e9;
+  t.poisson_ratio = 0.20;
+  t.ucs_pa = 127.83e6;
+  t.tensile_strength_pa = 12.30e6;
+  t.density_kg_per_m3 = 2580;
+  return t;
+}
+
+// Rigid-particle maps over (kt/kn, Rt/Rn): nu = (1 - a)/4, ratio = Psi_c / Psi_t grows with b.
+MapSet RigidMaps() {
+  MapSet maps;
+  maps.inputs = {MicroRatio::kStiffnessRatio, MicroRatio::kStrengthRatio};
+  const auto axes = std::vector<std::vector<double>>{Linspace(0, 1, 6), Linspace(1, 10, 6)};
+  maps.poisson_ratio = Sample(axes, [](const auto& p) { return (1 - p[0]) / 4; });
+  maps.elastic_group = Sample(axes, [](const auto& p) { return 0.3 * (1 + p[0]) * (5 - p[0]) / 16; });
+  maps.compressive_group = Sample(axes, [](const auto& p) { return 0.2 + 0.5 * p[0] + 0.05 * p[1]; });
+  maps.tensile_group = Sample(axes, [](const auto& p) { return 0.05 + 0.01 * p[0] + 0.001 * p[1]; });
+  return maps;
+}
+
+TEST(InvertMaps, RecoversAReachableTargetExactly) {
+  const MapSet maps = RigidMaps();
+  const auto target = Labra();
+  const auto r = InvertMaps(maps, Packing2D(), target, InversionOptions());
+  EXPECT_NEAR(r.ratios.tangential_to_normal_stiffness, 0.2, 1e-4);
+  EXPECT_TRUE(r.strength_ratio_reached) << r.FullReport();
+  EXPECT_TRUE(r.poisson_reached) << r.FullReport();
+  EXPECT_NEAR(r.error_poisson, 0.0, 1e-3);
+  EXPECT_NEAR(r.error_ucs, 0.0, 1e-9);
+  EXPECT_NEAR(r.error_tensile, 0.0, 2e-3);
+  // kn from the elastic group: E r~ / (Psi_E nc (1 - e)).
+  const auto d = Packing2D();
+  const double psi_e = 0.3 * 1.2 * 4.8 / 16;
+  EXPECT_NEAR(r.normal_stiffness, NormalStiffnessFromElasticGroup(d, target.youngs_modulus_pa, psi_e),
+              1e-3 * r.normal_stiffness);
+  EXPECT_NEAR(r.tangential_stiffness / r.normal_stiffness, r.ratios.tangential_to_normal_stiffness, 1e-12);
+  EXPECT_NEAR(r.bond_shear_strength / r.bond_tensile_strength, r.ratios.shear_to_tensile_strength, 1e-12);
+  EXPECT_TRUE(r.notes.empty());
+}
+
+TEST(InvertMaps, UnreachableStrengthRatioIsReportedWithTheHonouredStrength) {
+  const MapSet maps = RigidMaps();
+  auto target = Labra();
+  target.tensile_strength_pa = target.ucs_pa / 40.0;  // ratio 40: far beyond the maps
+  const auto r = InvertMaps(maps, Packing2D(), target, InversionOptions());
+  EXPECT_FALSE(r.strength_ratio_reached);
+  EXPECT_NEAR(r.error_ucs, 0.0, 1e-9);       // Rn from sigma_c by default
+  EXPECT_GT(std::abs(r.error_tensile), 0.1);  // sigma_t misses, and says so
+  ASSERT_FALSE(r.notes.empty());
+  EXPECT_NE(r.notes[0].find("not reachable"), std::string::npos) << r.notes[0];
+  EXPECT_NE(r.notes[0].find("compressive"), std::string::npos) << r.notes[0];
+  InversionOptions tensile;
+  tensile.honour = HonouredStrength::kTensile;
+  const auto t = InvertMaps(maps, Packing2D(), target, tensile);
+  EXPECT_NEAR(t.error_tensile, 0.0, 1e-9);
+}
+
+// DDEM maps: nu rises above the rigid-particle limit with kn/(Ep l) when nu_p > 0.25; the
+// stability bound caps kn/(Ep l) at 0.3 (a stand-in for rho(B) <= 0.9).
+MapSet DeformableMaps() {
+  MapSet maps;
+  maps.inputs = {MicroRatio::kStiffnessRatio, MicroRatio::kParticleCompliance, MicroRatio::kParticlePoisson};
+  maps.fixed.shear_to_tensile_strength = 10.0;
+  const auto axes = std::vector<std::vector<double>>{Linspace(0, 1, 5), Linspace(0, 0.6, 5), Linspace(0, 0.49, 5)};
+  maps.poisson_ratio = Sample(axes, [](const auto& p) { return (1 - p[0]) / 4 + 0.5 * p[1] * (p[2] - 0.25); });
+  maps.elastic_group = Sample(axes, [](const auto& p) { return 0.3 / (1 + p[1]); });
+  maps.compressive_group = Sample(axes, [](const auto& p) { return 0.6 + 0.2 * p[0]; });
+  maps.tensile_group = Sample(axes, [](const auto& p) { return 0.06 + 0.0 * p[0]; });
+  return maps;
+}
+
+TEST(InvertMaps, DeformableParticlesReachAPoissonRatioAboveTheRigidLimitWithinTheBound) {
+  const MapSet maps = DeformableMaps();
+  auto target = Labra();
+  target.poisson_ratio = 0.27;  // above 1/4
+  target.tensile_strength_pa = target.ucs_pa / 10.2;  // kt/kn = 0.06 on these maps
+  InversionOptions options;
+  options.admissible_particle_compliance = [](double) { return 0.3; };
+  const auto r = InvertMaps(maps, Packing2D(), target, options);
+  EXPECT_TRUE(r.poisson_reached) << r.FullReport();
+  EXPECT_LE(r.ratios.normal_stiffness_to_particle, 0.3 + 1e-8);
+  EXPECT_GT(r.particle_youngs_modulus, 0.0);
+  EXPECT_NEAR(r.particle_youngs_modulus, r.normal_stiffness / r.ratios.normal_stiffness_to_particle, 1e-6);
+
+  target.poisson_ratio = 0.32;  // needs kn/(Ep l) beyond the bound
+  const auto beyond = InvertMaps(maps, Packing2D(), target, options);
+  EXPECT_FALSE(beyond.poisson_reached);
+  EXPECT_LE(beyond.ratios.normal_stiffness_to_particle, 0.3 + 1e-8);
+  EXPECT_FALSE(beyond.notes.empty());
+}
+
+}  // namespace
+}  // namespace specimen
