@@ -91,18 +91,40 @@ Vector<2> RotateTangentialForce(const Vector<2>& tangential_force, const Vector<
   return tangential_force.dot(Perpendicular(old_normal)) * Perpendicular(new_normal);
 }
 
+namespace {
+
+// The 3D rotation, inlined into the contact pass. The smallest rotation keeps |ft| (ft lies
+// in the old plane: the stored force was projected into it); the twist turns the result by
+// atan(twist) about n_new, i.e. rotated + twist n x rotated rescaled by 1/sqrt(1 + twist^2),
+// the same vector the earlier "add, then rescale to the old magnitude" gave, without the
+// long divide-and-square-root chain on the force (an out-of-line call plus that chain cost a
+// third of a 3D rigid step). The projection removes the round-off normal component.
+inline Vector<3> RotateTangentialForceInline(const Vector<3>& tangential_force,
+                                             const Vector<3>& old_normal,
+                                             const Vector<3>& new_normal, double twist_angle) {
+  // Both factors depend on the normals and spins only: off the force's dependency chain.
+  const double inverse_one_plus_cosine = 1.0 / (1.0 + old_normal.dot(new_normal));
+  const double twist_cosine = 1.0 / std::sqrt(1.0 + twist_angle * twist_angle);
+  const double twist_sine = twist_angle * twist_cosine;
+  const Vector<3> rotated =
+      tangential_force -
+      (old_normal + new_normal) * (new_normal.dot(tangential_force) * inverse_one_plus_cosine);
+  Vector<3> twisted = twist_cosine * rotated + twist_sine * new_normal.cross(rotated);
+  twisted -= twisted.dot(new_normal) * new_normal;
+  return twisted;
+}
+
+inline Vector<2> RotateTangentialForceInline(const Vector<2>& tangential_force,
+                                             const Vector<2>& old_normal,
+                                             const Vector<2>& new_normal, double /*twist*/) {
+  return tangential_force.dot(Perpendicular(old_normal)) * Perpendicular(new_normal);
+}
+
+}  // namespace
+
 Vector<3> RotateTangentialForce(const Vector<3>& tangential_force, const Vector<3>& old_normal,
                                 const Vector<3>& new_normal, double twist_angle) {
-  const double magnitude_squared = tangential_force.squaredNorm();
-  if (magnitude_squared == 0.0) return Vector<3>::Zero();
-  const double cosine = old_normal.dot(new_normal);
-  Vector<3> rotated = tangential_force - (old_normal + new_normal) *
-                                             (new_normal.dot(tangential_force) / (1.0 + cosine));
-  if (twist_angle != 0.0) rotated += twist_angle * new_normal.cross(rotated);
-  rotated -= rotated.dot(new_normal) * new_normal;
-  const double norm_squared = rotated.squaredNorm();
-  if (norm_squared > 0.0) rotated *= std::sqrt(magnitude_squared / norm_squared);
-  return rotated;
+  return RotateTangentialForceInline(tangential_force, old_normal, new_normal, twist_angle);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -153,9 +175,11 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
     const int i = pairs[k][0], j = pairs[k][1];
     const Vector<Dim> branch = positions[j] - positions[i];
     const double distance = branch.norm();
-    const Vector<Dim> n = branch / distance;
+    const Vector<Dim> n = branch * (1.0 / distance);  // one division, not Dim
     const double ri = radii[i], rj = radii[j];
-    double gap = distance - ri - rj - reference_gaps[k];
+    // ri + rj first: the same digits whichever particle is i (the contact's orientation
+    // depends on the numbering), so a stress-free bond starts at exactly zero force.
+    double gap = distance - (ri + rj) - reference_gaps[k];
     if constexpr (kDeformable) {
       // Madan (2.53): deformed overlap h_c = h + Ri n.eps_i.n + Rj n.eps_j.n, i.e. the gap
       // shrinks by the normal displacements of the two contact points.
@@ -182,10 +206,11 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
     if constexpr (kTangential || kDashpot) {
       relative_velocity = velocities[j] - velocities[i];
       if constexpr (kTangential) {
-        // Unnormalised: |m| = cos(theta/2), a second-order difference.
+        // Unnormalised: |m| = cos(theta/2), a second-order difference. w_j x (-rj m) -
+        // w_i x (ri m) = -(ri w_i + rj w_j) x m: one cross product.
         const Vector<Dim> mid = 0.5 * (normals[k] + n);
-        relative_velocity +=
-            Cross(spins[j], Vector<Dim>(-rj * mid)) - Cross(spins[i], Vector<Dim>(ri * mid));
+        const Angular<Dim> arm_spin = ri * spins[i] + rj * spins[j];
+        relative_velocity -= Cross(arm_spin, mid);
       }
       normal_velocity = relative_velocity.dot(n);  // Madan (2.31)
     }
@@ -198,7 +223,7 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
       if constexpr (Dim == 3) twist = 0.5 * dt * (spins[i] + spins[j]).dot(n);
       // Madan (2.28)-(2.29), Labra (2.20) with the sign of the force on i: the stored force
       // rotated into the current plane plus kt v_rt dt.
-      ft = RotateTangentialForce(tangential_forces[k], normals[k], n, twist) +
+      ft = RotateTangentialForceInline(tangential_forces[k], normals[k], n, twist) +
            (kt * dt) * tangential_velocity;
     }
 

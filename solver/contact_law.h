@@ -96,9 +96,10 @@ struct ContactPassTotals {
 // Rotates a tangential force stored in the plane normal to n_old into the plane normal to
 // n_new by the smallest rotation taking n_old to n_new (both unit vectors):
 //   ft' = ft - (n_old + n_new) (n_new . ft) / (1 + n_old . n_new),
-// which keeps |ft| exactly (in 2D it is the rotation by the change of angle of n). In 3D the
-// rotation of the pair about the normal (twist) is then added: ft' is turned about n_new
-// by twist_angle = dt (w_i + w_j)/2 . n_new, and rescaled to keep |ft|.
+// which keeps |ft| exactly for ft in the old plane (in 2D it is the rotation by the change of
+// angle of n). In 3D the rotation of the pair about the normal (twist) is then added: ft' is
+// turned about n_new by twist_angle = dt (w_i + w_j)/2 . n_new, as ft' + twist n_new x ft'
+// rescaled to |ft'| (the rotation by atan(twist_angle)), and projected into the new plane.
 Vector<2> RotateTangentialForce(const Vector<2>& tangential_force, const Vector<2>& old_normal,
                                 const Vector<2>& new_normal, double twist_angle);
 Vector<3> RotateTangentialForce(const Vector<3>& tangential_force, const Vector<3>& old_normal,

@@ -80,7 +80,7 @@ ForceIterationSummary IterateDeformedContactForces(SceneState<Dim>& s,
       const double distance = branch.norm();
       const Vector<Dim> n = branch / distance;
       // Madan (2.53)-(2.54).
-      const double gap = distance - p.radius[i] - p.radius[j] - c.reference_gap[k] -
+      const double gap = distance - (p.radius[i] + p.radius[j]) - c.reference_gap[k] -
                          p.radius[i] * QuadraticForm(p.strain[i], n) -
                          p.radius[j] * QuadraticForm(p.strain[j], n);
       double fn = kn * gap;

@@ -25,6 +25,29 @@ Eigen::Matrix<double, Dim, Dim> LoveWeberStress(const SceneState<Dim>& s,
   return 0.5 * (sum + sum.transpose()) / volume;
 }
 
+template <int Dim>
+Eigen::Matrix<double, Dim, Dim> SpecimenStress(const SceneState<Dim>& s, double volume) {
+  if (!(volume > 0.0)) throw InputError("SpecimenStress: volume must be > 0");
+  Eigen::Matrix<double, Dim, Dim> sum = Eigen::Matrix<double, Dim, Dim>::Zero();
+  const ContactArrays<Dim>& c = s.contacts;
+  const auto& x = s.particles.position;
+  for (int k = 0; k < c.size(); ++k) {
+    const auto& [i, j] = c.pair[k];
+    sum.noalias() += (x[j] - x[i]) * c.force[k].transpose();
+  }
+  for (const WallState<Dim>& w : s.walls) {
+    for (size_t k = 0; k < w.particle.size(); ++k) {
+      const double fn = w.normal_elastic_force[k];  // <= 0: compression
+      if (fn == 0.0) continue;
+      const Vector<Dim> force = -fn * w.normal + w.tangential_force[k];
+      sum.noalias() += (-s.particles.radius[w.particle[k]] * w.normal) * force.transpose();
+    }
+  }
+  return 0.5 * (sum + sum.transpose()) / volume;
+}
+
+template Eigen::Matrix2d SpecimenStress<2>(const SceneState<2>&, double);
+template Eigen::Matrix3d SpecimenStress<3>(const SceneState<3>&, double);
 template Eigen::Matrix2d LoveWeberStress<2>(const SceneState<2>&, const std::vector<int>&, double);
 template Eigen::Matrix3d LoveWeberStress<3>(const SceneState<3>&, const std::vector<int>&, double);
 

@@ -26,6 +26,12 @@ bool SceneOptions<Dim>::IsValid(std::string* error) const {
   if (!material.IsValid(&inner)) return fail("material: " + inner);
   for (const WallOptions<Dim>& wall : walls)
     if (!wall.IsValid(&inner)) return fail(inner);
+  for (const WallOptions<Dim>& wall : walls)  // servo areas name other walls
+    for (const auto& pair : wall.servo.area_wall_pairs)
+      for (const int index : pair)
+        if (wall.drive == WallDrive::kServo && (index < 0 || index >= static_cast<int>(walls.size())))
+          return fail("wall \"" + wall.name + "\": servo.area_wall_pairs holds the wall index " +
+                      std::to_string(index) + ", outside [0, " + std::to_string(walls.size()) + ")");
   for (size_t k = 0; k < point_loads.size(); ++k) {
     const PointLoad<Dim>& load = point_loads[k];
     const std::string what = "point load " + std::to_string(k) + " (\"" + load.name + "\"): ";
@@ -57,6 +63,9 @@ bool SceneOptions<Dim>::IsValid(std::string* error) const {
   if (!(time_step.critical_time_step_s >= 0.0) || !std::isfinite(time_step.critical_time_step_s))
     return fail("time_step.critical_time_step_s = " + Number(time_step.critical_time_step_s) +
                 " is not allowed: it must be > 0 (or 0 for the per-particle bound)");
+  if (!(time_step.max_spectral_radius > 0.0 && time_step.max_spectral_radius <= 1.0))
+    return fail("time_step.max_spectral_radius = " + Number(time_step.max_spectral_radius) +
+                " is not allowed: it must be in (0, 1]");
   if (!(contacts.bond_gap_tolerance >= 0.0 && contacts.bond_gap_tolerance <= 1.0))
     return fail("contacts.bond_gap_tolerance = " + Number(contacts.bond_gap_tolerance) +
                 " is not allowed: it must be in [0, 1] (relative to the mean radius of the pair)");

@@ -32,6 +32,15 @@ struct TimeStepOptions {
   // The critical time step [s] from a sharper analysis (the stability-limit stage); 0: use
   // the per-particle bound of Madan (2.18).
   double critical_time_step_s = 0.0;
+  // Take the critical time step from the stability analysis (stability_analysis.h): the
+  // certified 2/omega_max of the assembled network, with the DDEM strain lag and the
+  // dashpots at the stability boundary, instead of the per-particle bound (the default step
+  // is then safety_factor x that, without the strain-lag factor). A DDEM scene whose force
+  // iteration does not converge, rho(B) >= max_spectral_radius, is refused with an
+  // InputError naming rho(B) and the admissible kn/(Ep l), unless allow_above_critical.
+  bool from_stability_analysis = false;
+  // The largest rho(B) accepted with from_stability_analysis, in (0, 1].
+  double max_spectral_radius = 1.0;
 };
 
 struct ContactDetectionOptions {

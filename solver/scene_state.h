@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "solver/contact_law.h"
@@ -20,6 +22,25 @@ namespace specimen {
 // Loops shorter than this run on one thread: the fork/join cost of a parallel region
 // (microseconds) exceeds the work of a small lattice test.
 constexpr int kParallelThreshold = 4096;
+
+// Scenes with at least this many particles are renumbered along a Hilbert curve at
+// construction (ApplySpatialOrder): smaller ones keep the packing's order.
+constexpr int kSpatialOrderThreshold = kParallelThreshold;
+
+// The order of the particles inside a simulation. A large packing is renumbered along a
+// space-filling (Hilbert) curve, so that neighbours, and their contacts (sorted by pair), sit
+// close in memory: the contact and particle passes then read particle data mostly from
+// cache. Simulation's accessors present everything in the packing's order (ExternalView);
+// indices given to it (loads, fixed dofs, SetVelocity, ...) are the packing's.
+struct ParticleOrder {
+  // Internal index of packing particle q, and the reverse; both empty: the packing's order.
+  std::vector<int> internal_of_external;
+  std::vector<int> external_of_internal;
+
+  bool identity() const { return internal_of_external.empty(); }
+  int Internal(int external) const { return identity() ? external : internal_of_external[external]; }
+  int External(int internal) const { return identity() ? internal : external_of_internal[internal]; }
+};
 
 // Particle -> contact adjacency in compressed rows: particle p's contacts are
 // entry[offset[p] .. offset[p + 1]), each entry = 2 * contact + side (0: p is the contact's
@@ -78,6 +99,10 @@ struct SceneState {
   ContactArrays<Dim> contacts_scratch;  // merge buffer of the neighbour search
   ContactAdjacency adjacency;
   std::vector<int> adjacency_cursor;  // fill buffer of RebuildAdjacency
+  // How the arrays are numbered against the packing (identity for small scenes).
+  // Per-particle and per-contact arrays added to this struct must also be renumbered by
+  // RenumberParticles (scene_state.cpp).
+  ParticleOrder order;
 
   // External actions accumulated by the wall and load passes, read and cleared by the
   // particle update. Empty when the scene has neither walls nor loads; the torque array is
@@ -85,6 +110,12 @@ struct SceneState {
   std::vector<Vector<Dim>> external_force;
   std::vector<Angular<Dim>> external_torque;
   std::vector<Eigen::Matrix<double, Dim, Dim>> external_moment;
+  // 1 for the particles the wall and load passes may write to (the walls' candidates and
+  // the loaded particles): the particle update reads and clears the accumulators of those
+  // only. Rebuilt by the particle update when `searches` has changed since
+  // external_flag_search; a pass that writes elsewhere must reset external_flag_search.
+  std::vector<std::uint8_t> external_flag;
+  long external_flag_search = -1;
 
   std::vector<WallState<Dim>> walls;
   std::vector<PointLoadState<Dim>> loads;
@@ -106,6 +137,52 @@ struct SceneState {
   int bonds_created = 0;
   int packing_pairs_not_bonded = 0;
   double time_step_given_s = 0.0;
+};
+
+// The Hilbert-curve order of `centres` (ties by index): identity (empty) for fewer than
+// `threshold` centres or when they already are in that order.
+template <int Dim>
+ParticleOrder SpatialOrder(const std::vector<Vector<Dim>>& centres,
+                           int threshold = kSpatialOrderThreshold);
+
+// Renumbers every per-particle quantity of the state: particle `old` becomes new_of_old[old]
+// (a permutation). Contacts get the new indices, i < j again (normal, force and tangential
+// force change sign where i and j swap) and are sorted by pair again; the adjacency, the
+// walls' candidate lists, loads, prescribed dofs and candidate pairs follow.
+// old_contact_of_new (may be null) receives the old index of each contact.
+template <int Dim>
+void RenumberParticles(SceneState<Dim>& state, const std::vector<int>& new_of_old,
+                       std::vector<int>* old_contact_of_new);
+
+// Renumbers a state built in the packing's order along SpatialOrder (state.order records
+// it). Called once, at the end of the construction of a Simulation.
+template <int Dim>
+void ApplySpatialOrder(SceneState<Dim>& state);
+
+// The state in the packing's order, for the accessors of a renumbered Simulation: a copy
+// renumbered back, rebuilt when the state has stepped or changed (Invalidate) since. For
+// the identity order it is the state itself.
+template <int Dim>
+class ExternalView {
+ public:
+  const SceneState<Dim>& Get(const SceneState<Dim>& state) const;
+  // The internal index of contact c of the view (contacts() order).
+  int InternalContact(const SceneState<Dim>& state, int c) const;
+  // After any change of the state that is not a step.
+  void Invalidate() { ++changes_; }
+  // Rebuilds an existing view now (end of a run), so references handed out stay current.
+  void RefreshIfHeld(const SceneState<Dim>& state) const {
+    if (view_ && !state.order.identity()) Refresh(state);
+  }
+
+ private:
+  void Refresh(const SceneState<Dim>& state) const;
+
+  mutable std::unique_ptr<SceneState<Dim>> view_;
+  mutable std::vector<int> internal_contact_;  // of each view contact
+  mutable long step_ = -1;
+  mutable long changes_seen_ = -1;
+  long changes_ = 0;
 };
 
 // Rebuilds the particle -> contact adjacency from state.contacts.

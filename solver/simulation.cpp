@@ -10,6 +10,7 @@
 
 #include "common/error.h"
 #include "solver/scene_state.h"
+#include "solver/stability_analysis.h"
 
 namespace specimen {
 
@@ -151,7 +152,7 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
       throw InputError("particles " + std::to_string(i) + " and " + std::to_string(j) +
                        " of a packing contact have the same centre");
     const double ri = s.particles.radius[i], rj = s.particles.radius[j];
-    const double gap = distance - ri - rj;
+    const double gap = distance - (ri + rj);  // as the contact law forms it (exact zero force)
     if (std::abs(gap) <= options.contacts.bond_gap_tolerance * 0.5 * (ri + rj)) {
       s.contacts.AppendNew(i, j, ContactState::kBonded,
                            options.contacts.stress_free_bonds ? gap : 0.0, branch / distance);
@@ -262,6 +263,30 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
       critical_.method += ", limited by the force-driven wall \"" + w.options.name + "\"";
     }
   }
+  if (options.time_step.from_stability_analysis) {
+    // The certified limit of the assembled network (stability_analysis.h): it includes the
+    // DDEM strain lag, so no separate lag factor; and the DDEM convergence check.
+    StabilityOptions stability;
+    stability.locate_mode = false;
+    stability.max_spectral_radius = options.time_step.max_spectral_radius;
+    const StabilitySummary analysis = AnalyseStability<Dim>(packing, options, stability);
+    if (analysis.deformable &&
+        analysis.spectral_radius >= options.time_step.max_spectral_radius &&
+        !options.time_step.allow_above_critical)
+      throw InputError(
+          "the DDEM force iteration does not converge: rho(B) = " +
+          Number(analysis.spectral_radius) + " >= time_step.max_spectral_radius = " +
+          Number(options.time_step.max_spectral_radius) + " (kn/(Ep l) = " +
+          Number(analysis.kn_over_ep) + ", admissible below " +
+          Number(analysis.admissible_kn_over_ep * options.time_step.max_spectral_radius) +
+          ", i.e. Ep above " +
+          Number(analysis.unit_spectral_radius_pa / options.time_step.max_spectral_radius) +
+          " Pa); raise Ep or lower kn, or set time_step.allow_above_critical to run anyway");
+    critical_.critical_time_step_s = analysis.critical_time_step_s;
+    critical_.ddem_lag_factor = 1.0;
+    critical_.method = "stability analysis: " + analysis.critical_time_step_method;
+    stability_note_ = analysis.BriefReport();
+  }
   if (options.time_step.critical_time_step_s > 0.0) {
     critical_.critical_time_step_s = options.time_step.critical_time_step_s;
     critical_.method = "given (TimeStepOptions::critical_time_step_s)";
@@ -291,6 +316,8 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
 
   // 7. External accumulators and the pass instantiations.
   ChooseStages();
+  // 8. Large scenes: particles renumbered along a space-filling curve (scene_state.h).
+  ApplySpatialOrder(s);
 }
 
 template <int Dim>
@@ -460,11 +487,11 @@ RunSummary Simulation<Dim>::Run(const RunOptions& options) {
       const ParticleArrays<Dim>& p = s.particles;
       for (int q = 0; q < p.size() && where.empty(); ++q)
         if (!p.position[q].allFinite() || !p.velocity[q].allFinite())
-          where = "the velocity of particle " + std::to_string(q);
+          where = "the velocity of particle " + std::to_string(s.order.External(q));
       for (int c = 0; c < s.contacts.size() && where.empty(); ++c)
         if (!s.contacts.force[c].allFinite())
-          where = "the force of contact " + std::to_string(s.contacts.pair[c][0]) + "-" +
-                  std::to_string(s.contacts.pair[c][1]);
+          where = "the force of contact " + std::to_string(s.order.External(s.contacts.pair[c][0])) +
+                  "-" + std::to_string(s.order.External(s.contacts.pair[c][1]));
       if (where.empty()) where = "a wall reaction";
       Diverged(where + " became NaN or infinite", &summary);
     }
@@ -512,6 +539,7 @@ RunSummary Simulation<Dim>::Run(const RunOptions& options) {
       summary.termination_message = "reached the step limit " + std::to_string(summary.steps);
   }
   last_summary_ = summary;
+  external_view_.RefreshIfHeld(s);
   return summary;
 }
 
@@ -523,10 +551,11 @@ void Simulation<Dim>::Diverged(const std::string& what, RunSummary* summary) {
   if (time_step_above_critical_)
     message += " The time step " + Number(s.time_step_s) + " s is above the critical time step " +
                Number(critical_.critical_time_step_s) + " s (allowed by allow_above_critical).";
-  if (plan_.deformable)
+  if (plan_.deformable && stability_note_.empty())
     message +=
         " DDEM also needs the force iteration to converge, rho(B) < 1: kn/(Ep l) below "
         "about pi/(4 (1 + nu_p)) (SC lattice, Madan (3.42)) or the HCP limit (3.78).";
+  if (!stability_note_.empty()) message += " Stability analysis of the scene: " + stability_note_ + ".";
   summary->termination = TerminationReason::kDiverged;
   summary->termination_message = message;
   FillSummary(summary);
@@ -607,11 +636,11 @@ double Simulation<Dim>::time_s() const {
 }
 template <int Dim>
 const ParticleArrays<Dim>& Simulation<Dim>::particles() const {
-  return state_->particles;
+  return external_view_.Get(*state_).particles;
 }
 template <int Dim>
 const ContactArrays<Dim>& Simulation<Dim>::contacts() const {
-  return state_->contacts;
+  return external_view_.Get(*state_).contacts;
 }
 template <int Dim>
 int Simulation<Dim>::wall_count() const {
@@ -622,7 +651,7 @@ const WallState<Dim>& Simulation<Dim>::wall(int index) const {
   if (index < 0 || index >= wall_count())
     throw InputError("wall index " + std::to_string(index) + " is outside [0, " +
                      std::to_string(wall_count() - 1) + "]");
-  return state_->walls[index];
+  return external_view_.Get(*state_).walls[index];
 }
 
 template <int Dim>
@@ -663,7 +692,7 @@ SymmetricTensor<Dim> Simulation<Dim>::ParticleStress(int particle) const {
   if (particle < 0 || particle >= state_->particles.size())
     throw InputError("particle index " + std::to_string(particle) + " is out of range");
   if (!plan_.deformable) return SymmetricTensor<Dim>::Zero();
-  return state_->compliance.Stress(state_->particles.strain[particle]);
+  return state_->compliance.Stress(state_->particles.strain[state_->order.Internal(particle)]);
 }
 
 template <int Dim>
@@ -677,7 +706,8 @@ void Simulation<Dim>::SetVelocity(int particle, const Vector<Dim>& velocity) {
   if (particle < 0 || particle >= state_->particles.size() || !velocity.allFinite())
     throw InputError("SetVelocity: particle " + std::to_string(particle) +
                      " is out of range or the velocity is not finite");
-  state_->particles.velocity[particle] = velocity;
+  state_->particles.velocity[state_->order.Internal(particle)] = velocity;
+  external_view_.Invalidate();
 }
 
 template <int Dim>
@@ -685,13 +715,39 @@ void Simulation<Dim>::SetAngularVelocity(int particle, const Angular<Dim>& angul
   if (particle < 0 || particle >= state_->particles.size() || !AngularIsFinite(angular_velocity))
     throw InputError("SetAngularVelocity: particle " + std::to_string(particle) +
                      " is out of range or the angular velocity is not finite");
-  state_->particles.angular_velocity[particle] = angular_velocity;
+  state_->particles.angular_velocity[state_->order.Internal(particle)] = angular_velocity;
+  external_view_.Invalidate();
+}
+
+template <int Dim>
+void Simulation<Dim>::SetWallOptions(int index, const WallOptions<Dim>& options) {
+  wall(index);  // throws for an index out of range
+  WallState<Dim>& w = state_->walls[index];
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(error);
+  const WallOptions<Dim>& old = w.options;
+  if (options.normal_stiffness_n_per_m != old.normal_stiffness_n_per_m ||
+      options.tangential_stiffness_n_per_m != old.tangential_stiffness_n_per_m ||
+      options.friction_coefficient != old.friction_coefficient ||
+      (options.drive == WallDrive::kForce) != (old.drive == WallDrive::kForce))
+    throw InputError("SetWallOptions: wall \"" + old.name +
+                     "\" may change its drive, but not its stiffnesses, friction or mass "
+                     "(force drive), which bound the time step");
+  for (const auto& pair : options.servo.area_wall_pairs)
+    for (const int other : pair) wall(other);  // throws for an index out of range
+  w.options = options;
+  w.servo_error_integral_n_s = 0.0;
+  external_view_.Invalidate();
 }
 
 template <int Dim>
 ForceIterationSummary Simulation<Dim>::IterateDeformedContactForces(
     const ForceIterationOptions& options) {
-  return specimen::IterateDeformedContactForces<Dim>(*state_, options);
+  ForceIterationOptions internal = options;  // the watched contact in contacts() order
+  if (options.watched_contact >= 0 && options.watched_contact < state_->contacts.size())
+    internal.watched_contact = external_view_.InternalContact(*state_, options.watched_contact);
+  external_view_.Invalidate();
+  return specimen::IterateDeformedContactForces<Dim>(*state_, internal);
 }
 
 template class Simulation<2>;

@@ -59,7 +59,8 @@ class Simulation {
   double time_s() const;
 
   // --- State (between runs) ---
-  const SceneState<Dim>& state() const { return *state_; }
+  // The state in the packing's order (large scenes are renumbered inside: scene_state.h).
+  const SceneState<Dim>& state() const { return external_view_.Get(*state_); }
   const ParticleArrays<Dim>& particles() const;
   const ContactArrays<Dim>& contacts() const;
   int wall_count() const;
@@ -75,6 +76,11 @@ class Simulation {
   // --- State changes (between runs) ---
   void SetVelocity(int particle, const Vector<Dim>& velocity);
   void SetAngularVelocity(int particle, const Angular<Dim>& angular_velocity);
+  // Replaces the drive of a wall (velocity, force, servo and their amplitudes, e.g. a platen
+  // servo-held during consolidation, then driven at a velocity). The wall keeps its current
+  // position and normal (those of `options` are ignored). Its stiffnesses and friction must
+  // not change (they bound the time step): InputError otherwise, or for invalid options.
+  void SetWallOptions(int wall, const WallOptions<Dim>& options);
 
   // Madan (3.5)-(3.7): the implicit DDEM force iteration at the current positions (ddem.h).
   ForceIterationSummary IterateDeformedContactForces(const ForceIterationOptions& options);
@@ -92,6 +98,9 @@ class Simulation {
   StepPlan plan_;
   CriticalTimeStepEstimate critical_;
   double energy_growth_factor_ = 1e6;
+  // With TimeStepOptions::from_stability_analysis: the analysis' one-line report, quoted
+  // when a run diverges.
+  std::string stability_note_;
   double stiffest_spring_n_per_m_ = 0.0;
   bool time_step_above_critical_ = false;
   RunSummary last_summary_;
@@ -102,6 +111,9 @@ class Simulation {
   // The stages chosen for the plan (function pointers into the instantiated passes).
   ContactPassFunction<Dim> contact_pass_ = nullptr;
   ParticlePassFunction<Dim> particle_pass_ = nullptr;
+  // The packing-order copy the accessors return for a renumbered scene; a change of the
+  // state other than a step must call external_view_.Invalidate().
+  ExternalView<Dim> external_view_;
 };
 
 }  // namespace specimen

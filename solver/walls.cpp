@@ -47,17 +47,55 @@ bool WallOptions<Dim>::IsValid(std::string* error) const {
                   " is not allowed: a force-driven wall needs a finite mass > 0");
     if (!std::isfinite(applied_force_n)) return fail("applied_force_n is not finite");
   }
+  if (drive == WallDrive::kServo) {
+    if (!(servo.stress_pa >= 0.0) || !std::isfinite(servo.stress_pa))
+      return fail("servo.stress_pa = " + number(servo.stress_pa) +
+                  " is not allowed: it must be finite and >= 0");
+    if (servo.area_wall_pairs.empty() &&
+        (!(servo.reference_area_m2 > 0.0) || !std::isfinite(servo.reference_area_m2)))
+      return fail("servo.reference_area_m2 = " + number(servo.reference_area_m2) +
+                  " is not allowed: without area_wall_pairs it must be finite and > 0");
+    if (!(servo.gain_fraction > 0.0 && servo.gain_fraction <= 1.0))
+      return fail("servo.gain_fraction = " + number(servo.gain_fraction) +
+                  " is not allowed: it must be in (0, 1]");
+    if (!(servo.integral_time_s >= 0.0) || !std::isfinite(servo.integral_time_s))
+      return fail("servo.integral_time_s = " + number(servo.integral_time_s) +
+                  " is not allowed: it must be finite and >= 0");
+    if (!(servo.max_speed_m_per_s > 0.0) || !std::isfinite(servo.max_speed_m_per_s))
+      return fail("servo.max_speed_m_per_s = " + number(servo.max_speed_m_per_s) +
+                  " is not allowed: it must be finite and > 0");
+  }
   return true;
 }
 
 template struct WallOptions<2>;
 template struct WallOptions<3>;
 
+namespace {
+
+// The servo's target force at t_n: stress x the area spanned by the paired walls (WallServo).
+template <int Dim>
+double ServoTargetForce(const SceneState<Dim>& s, const WallServo& servo) {
+  double area = servo.reference_area_m2;
+  if (!servo.area_wall_pairs.empty()) {
+    area = 1.0;  // 2D: per unit thickness
+    for (const auto& [a, b] : servo.area_wall_pairs)
+      area *= std::abs((s.walls[b].point - s.walls[a].point).dot(s.walls[a].normal));
+  }
+  return servo.stress_pa * area;
+}
+
+}  // namespace
+
 template <int Dim>
 void WallPass(SceneState<Dim>& s, bool deformable, bool rotation, bool dashpots,
               WallPassTotals* totals) {
   const ParticleArrays<Dim>& p = s.particles;
   const double dt = s.time_step_s;
+  // Servo targets from the wall positions at t_n, before any wall moves.
+  for (WallState<Dim>& w : s.walls)
+    if (w.options.drive == WallDrive::kServo)
+      w.servo_target_force_n = ServoTargetForce(s, w.options.servo);
   for (WallState<Dim>& w : s.walls) {
     const WallOptions<Dim>& o = w.options;
     const Vector<Dim>& normal = w.normal;
@@ -66,6 +104,7 @@ void WallPass(SceneState<Dim>& s, bool deformable, bool rotation, bool dashpots,
     const double dashpot =
         dashpots ? 2.0 * s.material.normal_dashpot_ratio * std::sqrt(k_wall) : 0.0;
     Vector<Dim> force_on_wall = Vector<Dim>::Zero();
+    int touching = 0;
     const int count = static_cast<int>(w.particle.size());
     for (int k = 0; k < count; ++k) {
       const int q = w.particle[k];
@@ -106,6 +145,7 @@ void WallPass(SceneState<Dim>& s, bool deformable, bool rotation, bool dashpots,
         force += ft;
       }
       w.normal_elastic_force[k] = fn;
+      ++touching;
       s.external_force[q] += force;
       if (rotation) s.external_torque[q] += Cross(arm, force);
       if (deformable) s.external_moment[q].noalias() += arm * force.transpose();
@@ -117,7 +157,7 @@ void WallPass(SceneState<Dim>& s, bool deformable, bool rotation, bool dashpots,
 
     // Drive force and its work, trapezoidal over the wall displacement from t_{n-1} to t_n.
     Vector<Dim> drive_force;
-    if (o.drive == WallDrive::kVelocity) {
+    if (o.drive != WallDrive::kForce) {
       drive_force = -force_on_wall;  // a massless wall held on its path
     } else {
       drive_force =
@@ -135,6 +175,21 @@ void WallPass(SceneState<Dim>& s, bool deformable, bool rotation, bool dashpots,
     const Vector<Dim> v_old = w.velocity;
     if (o.drive == WallDrive::kVelocity) {
       w.velocity = o.velocity * o.velocity_amplitude(s.time_s + 0.5 * dt);
+    } else if (o.drive == WallDrive::kServo) {
+      // WallServo: proportional-integral speed along the normal from the force error.
+      const WallServo& servo = o.servo;
+      const double error = w.servo_target_force_n - w.NormalReaction();
+      const double gain = servo.gain_fraction / (k_wall * std::max(1, touching) * dt);
+      double control = error;
+      if (servo.integral_time_s > 0.0) {
+        const double integral = w.servo_error_integral_n_s + error * dt;
+        control += integral / servo.integral_time_s;
+        // Anti-windup: the integral only grows while the speed is not at its bound.
+        if (std::abs(gain * control) <= servo.max_speed_m_per_s) w.servo_error_integral_n_s = integral;
+      }
+      const double speed =
+          std::clamp(gain * control, -servo.max_speed_m_per_s, servo.max_speed_m_per_s);
+      w.velocity = speed * normal;
     } else {
       // Central differences along the normal, with non-viscous damping (Madan (2.7)).
       const double resultant = (drive_force + force_on_wall).dot(normal);

@@ -10,9 +10,13 @@
 //
 // Walls translate only. A velocity-driven wall follows its prescribed velocity; a
 // force-driven wall has a mass and moves along its normal under the applied force and the
-// particles' reaction (no servo). The work of the drive (prescribed motion or applied
-// force) is the wall's external work; the energy of the wall springs is contact energy.
+// particles' reaction; a servo-controlled wall (the lateral walls of a confined biaxial
+// test) is massless and moves along its normal at the speed a proportional-integral
+// controller sets to hold a target stress on it (WallServo below). The work of the drive
+// (prescribed motion, applied force or servo) is the wall's external work; the energy of
+// the wall springs is contact energy.
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -27,6 +31,31 @@ struct SceneState;
 enum class WallDrive {
   kVelocity,  // prescribed velocity (zero: a fixed wall)
   kForce,     // prescribed force towards the particles, the wall has a mass
+  kServo,     // massless, moved along its normal to hold a target stress (WallServo)
+};
+
+// The stress servo of a kServo wall. Each step, at t_n:
+//   F_target = stress_pa x A,  A = product over area_wall_pairs of the distance between the
+//              two walls' planes (x 1 m in 2D), or reference_area_m2 when there are no pairs
+//              (so the target follows the specimen as the other walls move);
+//   e = F_target - F,  F = the wall's compressive reaction (WallState::NormalReaction);
+//   v = gain (e + (1 / integral_time_s) sum e dt) along the normal (towards the particles),
+//   gain = gain_fraction / (k_wall n_touch dt), |v| <= max_speed_m_per_s,
+// with n_touch >= 1 the particles touching the wall at t_n. Without the specimen's own
+// compliance the wall springs alone would close the error in 1 / gain_fraction steps;
+// gain_fraction < 1 keeps the loop stable with the specimen's inertia in it (PFC's servo
+// uses 0.5). The integral term removes the steady lag of a wall that must keep moving
+// (a specimen dilating under axial load): with a proportional servo alone that lag is
+// v_wall k_wall n_touch dt / gain_fraction.
+struct WallServo {
+  double stress_pa = 0.0;  // target compressive stress on the wall, >= 0 [Pa]
+  // Pairs of wall indices (into SceneOptions::walls) whose plane distances multiply to the
+  // wall's area, e.g. in 2D the two platens for a lateral wall; in 3D two pairs.
+  std::vector<std::array<int, 2>> area_wall_pairs;
+  double reference_area_m2 = 0.0;  // used when area_wall_pairs is empty, > 0 then
+  double gain_fraction = 0.2;      // in (0, 1]
+  double integral_time_s = 0.0;    // >= 0; 0: proportional only
+  double max_speed_m_per_s = 1.0;  // > 0
 };
 
 template <int Dim>
@@ -46,6 +75,8 @@ struct WallOptions {
   double applied_force_n = 0.0;
   Amplitude force_amplitude;
   double mass_kg = 0.0;
+  // kServo: the stress controller.
+  WallServo servo;
 
   bool friction() const { return tangential_stiffness_n_per_m > 0.0 && friction_coefficient > 0.0; }
   bool IsValid(std::string* error) const;
@@ -63,6 +94,9 @@ struct WallState {
   // Force of the drive on the wall at the last evaluation (for the trapezoidal work).
   Vector<Dim> previous_drive_force = Vector<Dim>::Zero();
   double work_j = 0.0;  // work of the drive since t = 0
+  // kServo: the target force of the last step [N] and the integral of its error [N s].
+  double servo_target_force_n = 0.0;
+  double servo_error_integral_n_s = 0.0;
   double displacement_since_search = 0.0;
   // Candidate contacts, sorted by particle: particles within the search skin of the plane.
   std::vector<int> particle;
@@ -91,7 +125,8 @@ struct WallPassTotals {
 // Contact forces of every wall on its candidates at t_n; adds them to the particles'
 // external force, moment and (DDEM) surface moment accumulators; sums the reaction on each
 // wall; accumulates the drive work; moves the walls to t_{n+1} (force-driven walls by
-// central differences under the applied force, the reaction and the local damping alpha_t).
+// central differences under the applied force, the reaction and the local damping alpha_t;
+// servo walls at the controller's speed).
 template <int Dim>
 void WallPass(SceneState<Dim>& state, bool deformable, bool rotation, bool dashpots,
               WallPassTotals* totals);

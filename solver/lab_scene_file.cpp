@@ -1,0 +1,292 @@
+#include "solver/lab_scene_file.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "common/error.h"
+#include "generator/domain.h"
+#include "solver/lab_envelope.h"
+#include "solver/lab_specimen.h"
+
+namespace specimen {
+namespace {
+
+// Reads the keys of one table, each at most once and with its type checked; Finish()
+// rejects the keys nobody asked for.
+class TableReader {
+ public:
+  TableReader(const toml::table* table, std::string where) : table_(table), where_(std::move(where)) {}
+
+  bool Has(const std::string& key) const { return table_ && table_->get(key) != nullptr; }
+
+  // A number (integers accepted; inf and nan are TOML numbers too: ranges reject nan).
+  bool Number(const std::string& key, double* value) {
+    const toml::node* node = Get(key);
+    if (!node) return false;
+    if (const auto v = node->value<double>()) {
+      *value = *v;
+      return true;
+    }
+    throw InputError(where_ + ": '" + key + "' must be a number");
+  }
+  bool Integer(const std::string& key, std::int64_t* value) {
+    const toml::node* node = Get(key);
+    if (!node) return false;
+    if (node->is_integer()) {
+      *value = *node->value<std::int64_t>();
+      return true;
+    }
+    throw InputError(where_ + ": '" + key + "' must be an integer");
+  }
+  bool Boolean(const std::string& key, bool* value) {
+    const toml::node* node = Get(key);
+    if (!node) return false;
+    if (const auto v = node->value<bool>()) {
+      *value = *v;
+      return true;
+    }
+    throw InputError(where_ + ": '" + key + "' must be true or false");
+  }
+  bool String(const std::string& key, std::string* value) {
+    const toml::node* node = Get(key);
+    if (!node) return false;
+    if (const auto v = node->value<std::string>()) {
+      *value = *v;
+      return true;
+    }
+    throw InputError(where_ + ": '" + key + "' must be a string");
+  }
+  bool Numbers(const std::string& key, std::vector<double>* values) {
+    const toml::node* node = Get(key);
+    if (!node) return false;
+    const toml::array* array = node->as_array();
+    if (!array) throw InputError(where_ + ": '" + key + "' must be an array of numbers");
+    values->clear();
+    for (const toml::node& item : *array) {
+      const auto v = item.value<double>();
+      if (!v) throw InputError(where_ + ": '" + key + "' must be an array of numbers");
+      values->push_back(*v);
+    }
+    return true;
+  }
+  void Finish() const {
+    if (!table_) return;
+    for (const auto& [key, value] : *table_) {
+      (void)value;
+      if (!read_.count(std::string(key.str())))
+        throw InputError(where_ + ": unknown key '" + std::string(key.str()) + "'");
+    }
+  }
+  const std::string& where() const { return where_; }
+
+ private:
+  const toml::node* Get(const std::string& key) {
+    read_.insert(key);
+    return table_ ? table_->get(key) : nullptr;
+  }
+  const toml::table* table_;
+  std::string where_;
+  std::set<std::string> read_;
+};
+
+int DimensionOfDomain(const std::string& text) {
+  std::istringstream in(text);
+  std::string shape;
+  in >> shape;
+  if (shape == "rectangle" || shape == "disc" || shape == "polygon") return 2;
+  if (shape == "box" || shape == "cylinder") return 3;
+  throw InputError("[specimen] domain: unknown domain '" + shape +
+                   "'; use rectangle, disc, polygon (2D) or box, cylinder (3D)");
+}
+
+void ReadSpecimen(const toml::table* table, const std::string& source, LabScene* scene) {
+  TableReader t(table, source + " [specimen]");
+  if (!table) throw InputError(source + ": the [specimen] table is missing");
+  const bool has_packing = t.String("packing", &scene->packing_path);
+  const bool has_domain = t.String("domain", &scene->domain);
+  if (has_packing == has_domain)
+    throw InputError(t.where() + ": give exactly one of 'packing' (a packing file) and 'domain' "
+                                 "(generate the specimen)");
+  std::int64_t count = 0, seed = 1;
+  const bool has_count = t.Integer("count", &count);
+  const bool has_radius = t.Number("mean_radius", &scene->mean_radius_m);
+  t.Integer("seed", &seed);
+  t.Boolean("scale_density", &scene->test.scale_density);
+  t.Finish();
+  if (has_packing) {
+    if (has_count || has_radius || table->get("seed"))
+      throw InputError(t.where() + ": 'count', 'mean_radius' and 'seed' only go with 'domain'");
+    std::filesystem::path path(scene->packing_path);
+    if (path.is_relative())
+      path = std::filesystem::path(source).parent_path() / path;
+    scene->packing_path = path.lexically_normal().string();
+    return;
+  }
+  if (has_count == has_radius)
+    throw InputError(t.where() + ": with 'domain' give exactly one of 'count' and 'mean_radius'");
+  if (has_count && (count < 1 || count > std::numeric_limits<int>::max()))
+    throw InputError(t.where() + ": count = " + std::to_string(count) +
+                     " is not allowed: it must be >= 1");
+  if (has_radius && !(scene->mean_radius_m > 0.0 && std::isfinite(scene->mean_radius_m)))
+    throw InputError(t.where() + ": mean_radius must be a finite length > 0 [m]");
+  if (seed < 0) throw InputError(t.where() + ": seed must be >= 0");
+  scene->particle_count = static_cast<int>(count);
+  scene->seed = static_cast<std::uint64_t>(seed);
+  scene->dimension = DimensionOfDomain(scene->domain);
+  try {
+    if (scene->dimension == 2)
+      CheckSpecimenShape<2>(Domain<2>::Parse(scene->domain), scene->test.kind);
+    else
+      CheckSpecimenShape<3>(Domain<3>::Parse(scene->domain), scene->test.kind);
+  } catch (const InputError& e) {
+    throw InputError(t.where() + ": " + e.what());
+  }
+}
+
+void ReadMaterial(const toml::table* table, const std::string& source, MaterialParameters* m) {
+  if (!table) throw InputError(source + ": the [material] table is missing");
+  TableReader t(table, source + " [material]");
+  auto required = [&](const std::string& key, double* value) {
+    if (!t.Number(key, value)) throw InputError(t.where() + ": '" + key + "' is missing");
+  };
+  required("normal_stiffness", &m->normal_stiffness_n_per_m);
+  t.Number("tangential_stiffness", &m->tangential_stiffness_n_per_m);
+  t.Number("bond_tensile_strength", &m->bond_tensile_strength_n);
+  t.Number("bond_shear_strength", &m->bond_shear_strength_n);
+  t.Number("friction_coefficient", &m->friction_coefficient);
+  required("density", &m->density_kg_per_m3);
+  double modulus = 0.0;
+  if (t.Number("particle_youngs_modulus", &modulus)) m->particle_youngs_modulus_pa = modulus;
+  t.Number("particle_poisson_ratio", &m->particle_poisson_ratio);
+  std::string plane;
+  if (t.String("plane_model", &plane)) {
+    if (plane == "plane_strain")
+      m->plane_model = PlaneModel::kPlaneStrain;
+    else if (plane == "plane_stress")
+      m->plane_model = PlaneModel::kPlaneStress;
+    else
+      throw InputError(t.where() + ": plane_model = '" + plane +
+                       "' is not allowed: use plane_strain or plane_stress");
+  }
+  t.Finish();
+  std::string error;
+  if (!m->IsValid(&error)) throw InputError(t.where() + ": " + error);
+}
+
+void ReadTest(const toml::table* table, const std::string& source, LabScene* scene) {
+  if (!table) throw InputError(source + ": the [test] table is missing");
+  TableReader t(table, source + " [test]");
+  LabTestOptions& o = scene->test;
+  std::string kind;
+  if (!t.String("kind", &kind)) throw InputError(t.where() + ": 'kind' is missing");
+  if (!ParseLabTestKind(kind, &o.kind))
+    throw InputError(t.where() + ": kind = '" + kind +
+                     "' is not allowed: use ucs, brazilian, biaxial, isotropic or shear");
+  t.Number("loading_rate_group", &o.loading_rate_group);
+  t.Number("platen_speed", &o.platen_speed_m_per_s);
+  t.Number("velocity_ramp_transits", &o.velocity_ramp_transits);
+  t.Number("pause_kinetic_energy_ratio", &o.pause_kinetic_energy_ratio);
+  t.Number("max_pause_transits", &o.max_pause_transits);
+  t.Number("post_peak_fraction", &o.post_peak_stress_fraction);
+  t.Number("strain_limit", &o.strain_limit);
+  std::vector<double> window;
+  if (t.Numbers("modulus_window", &window)) {
+    if (window.size() != 2)
+      throw InputError(t.where() + ": modulus_window must hold two numbers [low, high]");
+    o.modulus_window_low = window[0];
+    o.modulus_window_high = window[1];
+  }
+  std::int64_t interval = o.sample_interval_steps, threads = o.num_threads;
+  t.Integer("sample_interval", &interval);
+  t.Integer("threads", &threads);
+  if (interval < 1 || interval > 1000000)
+    throw InputError(t.where() + ": sample_interval = " + std::to_string(interval) +
+                     " is not allowed: it must be in [1, 1000000]");
+  if (threads < 1 || threads > 1024)
+    throw InputError(t.where() + ": threads = " + std::to_string(threads) +
+                     " is not allowed: it must be in [1, 1024]");
+  o.sample_interval_steps = static_cast<int>(interval);
+  o.num_threads = static_cast<int>(threads);
+  t.Number("strain_boundary_margin", &o.strain_boundary_margin);
+  const bool one = t.Number("confining_stress", &o.confining_stress_pa);
+  const bool many = t.Numbers("confining_stresses", &scene->confining_stresses_pa);
+  t.Number("servo_gain_fraction", &o.servo_gain_fraction);
+  t.Number("servo_integral_transits", &o.servo_integral_transits);
+  t.Number("consolidation_tolerance", &o.consolidation_tolerance);
+  t.Number("platen_stiffness_ratio", &o.platen_stiffness_ratio);
+  t.Number("platen_friction", &o.platen_friction);
+  t.Number("local_damping", &o.local_damping);
+  t.Number("dashpot_ratio", &o.dashpot_ratio);
+  t.Boolean("quasi_static_check", &o.check_quasi_static);
+  t.Number("quasi_static_tolerance", &o.quasi_static_tolerance);
+  t.Finish();
+  if ((one || many) && o.kind != LabTestKind::kConfinedCompression)
+    throw InputError(t.where() + ": 'confining_stress(es)' only go with kind = 'biaxial'");
+  if (one && many)
+    throw InputError(t.where() + ": give 'confining_stress' (one test) or 'confining_stresses' "
+                                 "(an envelope), not both");
+  if (many) {
+    try {
+      CheckConfinements(scene->confining_stresses_pa);
+    } catch (const InputError& e) {
+      throw InputError(t.where() + ": " + e.what());
+    }
+  }
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError(t.where() + ": " + error);
+}
+
+void ReadOutput(const toml::table* table, const std::string& source, LabOutputOptions* output) {
+  TableReader t(table, source + " [output]");
+  t.String("name", &output->name);
+  t.Boolean("pictures", &output->pictures);
+  t.Boolean("snapshots", &output->snapshots);
+  t.Finish();
+  if (output->name.empty() || output->name.find('/') != std::string::npos)
+    throw InputError(t.where() + ": name = '" + output->name +
+                     "' is not allowed: it must be a non-empty file name without '/'");
+}
+
+}  // namespace
+
+LabScene ParseLabScene(const std::string& toml_text, const std::string& source) {
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream message;
+    message << source << ", line " << e.source().begin.line << ", column "
+            << e.source().begin.column << ": " << e.description();
+    throw FileError(message.str());
+  }
+  for (const auto& [key, value] : root) {
+    (void)value;
+    const std::string name(key.str());
+    if (name != "specimen" && name != "material" && name != "test" && name != "output")
+      throw InputError(source + ": unknown table or key '" + name +
+                       "' (the scene has [specimen], [material], [test], [output])");
+  }
+  LabScene scene;
+  scene.source = source;
+  scene.output.name = std::filesystem::path(source).stem().string();
+  ReadTest(root["test"].as_table(), source, &scene);  // first: the shape check needs the kind
+  ReadSpecimen(root["specimen"].as_table(), source, &scene);
+  ReadMaterial(root["material"].as_table(), source, &scene.material);
+  ReadOutput(root["output"].as_table(), source, &scene.output);
+  return scene;
+}
+
+LabScene LoadLabScene(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw FileError("cannot read the scene file '" + path + "'");
+  std::stringstream text;
+  text << in.rdbuf();
+  return ParseLabScene(text.str(), path);
+}
+
+}  // namespace specimen

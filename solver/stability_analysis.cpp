@@ -1,0 +1,560 @@
+#include "solver/stability_analysis.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "common/error.h"
+#include "solver/particles.h"
+#include "solver/stability_network.h"
+#include "solver/time_step.h"
+
+namespace specimen {
+
+namespace {
+
+std::string Number(double value, int precision = 6) {
+  std::ostringstream out;
+  out.precision(precision);
+  out << value;
+  return out.str();
+}
+
+// 2 / sqrt(lambda) x damping; infinity for lambda = 0.
+double TimeStepOf(double lambda, double damping) {
+  if (!(lambda > 0.0)) return std::numeric_limits<double>::infinity();
+  return 2.0 / std::sqrt(lambda) * damping;
+}
+
+EigenvalueReport Report(const LanczosResult& r) {
+  EigenvalueReport e;
+  e.ritz_value = r.ritz_value;
+  e.certified_upper_bound = r.certified_upper_bound;
+  e.relative_tolerance = r.relative_tolerance;
+  e.residual_norm = r.residual_norm;
+  e.iterations = r.iterations;
+  e.dimension = r.dimension;
+  e.reorthogonalised = r.reorthogonalised;
+  e.exact = r.exact;
+  e.seconds = r.seconds;
+  return e;
+}
+
+// The Lanczos options of one stage, with its progress label.
+LanczosOptions StageOptions(const StabilityOptions& options, const std::string& label) {
+  LanczosOptions lanczos = options.lanczos;
+  lanczos.progress = options.progress;
+  lanczos.progress_label = label;
+  return lanczos;
+}
+
+// The operator of the step's stability boundary z = -1 (stability_analysis.h, items 1 and 3):
+// H = sym(M^-1/2 C^T (I - L)^-1 K* C M^-1/2), where at z = -1 a link's force is
+//  - normal: (kn + 2 cn / dt) g plus kn times the strain correction of the total forces (the
+//    lagged dashpot force c v_(n-1/2) = c (u_n - u_(n-1)) / dt = 2 c u_n / dt acts as a
+//    stiffness 2c/dt; it has no strain correction but enters the particle stress);
+//  - tangential: (kt + 2 ct / dt) d_t, not corrected (Madan assumption 5).
+// Rigid particles: L = 0 and H = M^-1/2 C^T K* C M^-1/2. Counts the inner CG iterations.
+template <int Dim>
+class BoundaryOperator {
+ public:
+  // compliance: nullptr for rigid particles; dashpot_time_step_s: the dt of 2c/dt (0: no
+  // dashpots).
+  BoundaryOperator(const LinearisedNetwork<Dim>& network, const ParticleCompliance<Dim>* compliance,
+                   double dashpot_time_step_s, const StabilityOptions& options)
+      : network_(network), compliance_(compliance), options_(options) {
+    const int links = network.link_count();
+    normal_.resize(links);
+    tangential_.resize(links);
+    root_kn_.resize(links);
+    const bool dashpots = network.has_dashpots() && dashpot_time_step_s > 0.0;
+    for (int c = 0; c < links; ++c) {
+      normal_[c] = network.normal_stiffness(c);
+      tangential_[c] = network.tangential_stiffness(c);
+      if (dashpots) {
+        normal_[c] += 2.0 * network.normal_dashpot(c) / dashpot_time_step_s;
+        tangential_[c] += 2.0 * network.tangential_dashpot(c) / dashpot_time_step_s;
+      }
+      root_kn_[c] = std::sqrt(network.normal_stiffness(c));
+    }
+    symmetric_ = compliance == nullptr || (!network.has_tangential() && !dashpots);
+  }
+
+  void Apply(const std::vector<double>& x, std::vector<double>& y) {
+    Forward(x, y);
+    if (symmetric_) return;
+    Transposed(x, transposed_);
+    for (size_t k = 0; k < y.size(); ++k) y[k] = 0.5 * (y[k] + transposed_[k]);
+  }
+  long inner_iterations() const { return inner_iterations_; }
+
+ private:
+  // (I - S) w = r, S = K_n^1/2 M K_n^1/2 with the scene's compliance.
+  void Solve(const std::vector<double>& r, std::vector<double>* w) {
+    const SymmetricOperator i_minus_s = [&](const std::vector<double>& v,
+                                            std::vector<double>& out) {
+      network_.ApplyDdemOperator(*compliance_, v, out);
+      for (size_t k = 0; k < v.size(); ++k) out[k] = v[k] - out[k];
+    };
+    const ConjugateGradientResult result = ConjugateGradient(
+        i_minus_s, r, options_.inner_tolerance, options_.inner_max_iterations, w, &workspace_);
+    inner_iterations_ += result.iterations;
+    if (!result.converged)
+      throw ComputationError(
+          "DDEM time step: the inner solve (I - S) w = r did not reach the relative residual " +
+          Number(options_.inner_tolerance) + " in " + std::to_string(result.iterations) +
+          " iterations (residual " + Number(result.relative_residual) +
+          "); rho(B) is too close to 1");
+  }
+
+  // f_t = K*_t d_t; (I - B) f_n = K*_n g + kn N^T eps(f_t); y = M^-1/2 C^T f.
+  void Forward(const std::vector<double>& x, std::vector<double>& y) {
+    const int links = network_.link_count();
+    const bool tangential = network_.has_tangential();
+    std::vector<double>& g = g_;
+    std::vector<Vector<Dim>>& t = t_;
+    network_.LinkKinematics(x, &g, tangential ? &t : nullptr);
+    if (!tangential) t.clear();
+    for (int c = 0; c < links; ++c) g[c] *= normal_[c];
+    if (tangential)
+      for (int c = 0; c < links; ++c) t[c] *= tangential_[c];
+    if (compliance_ != nullptr) {
+      if (tangential) {
+        zeros_.assign(links, 0.0);
+        network_.StrainOfLinkForces(*compliance_, zeros_, t, &strain_);
+        network_.NormalDisplacementOfStrain(strain_, &correction_);
+        for (int c = 0; c < links; ++c) g[c] += network_.normal_stiffness(c) * correction_[c];
+      }
+      // f_n = K^1/2 w with (I - S) w = K^-1/2 rhs.
+      for (int c = 0; c < links; ++c) g[c] /= root_kn_[c];
+      Solve(g, &w_);
+      for (int c = 0; c < links; ++c) g[c] = w_[c] * root_kn_[c];
+    }
+    network_.GatherLinkForces(g, t, y);
+  }
+
+  // The transpose: (I - B^T) z = g; f_n = K*_n z; f_t = K*_t (d_t + S_t^T eps(kn z)).
+  void Transposed(const std::vector<double>& x, std::vector<double>& y) {
+    const int links = network_.link_count();
+    const bool tangential = network_.has_tangential();
+    std::vector<double>& g = g_;
+    std::vector<Vector<Dim>>& t = t_;
+    network_.LinkKinematics(x, &g, tangential ? &t : nullptr);
+    if (!tangential) t.clear();
+    // w = K^1/2 z solves (I - S) w = K^1/2 g.
+    for (int c = 0; c < links; ++c) g[c] *= root_kn_[c];
+    std::vector<double>& w = w_;
+    Solve(g, &w);
+    std::vector<double>& normal = correction_;
+    normal.resize(links);
+    for (int c = 0; c < links; ++c) {
+      normal[c] = normal_[c] * w[c] / root_kn_[c];  // K*_n z
+      w[c] *= root_kn_[c];                          // kn z
+    }
+    if (tangential) {
+      network_.StrainOfLinkForces(*compliance_, w, {}, &strain_);
+      network_.TangentialDisplacementOfStrain(strain_, &tangential_correction_);
+      for (int c = 0; c < links; ++c) t[c] = tangential_[c] * (t[c] + tangential_correction_[c]);
+    }
+    network_.GatherLinkForces(normal, t, y);
+  }
+
+  const LinearisedNetwork<Dim>& network_;
+  const ParticleCompliance<Dim>* compliance_;
+  const StabilityOptions& options_;
+  std::vector<double> normal_, tangential_, root_kn_;
+  bool symmetric_ = true;
+  long inner_iterations_ = 0;
+  // Work vectors kept between products (no allocation in the Lanczos loop).
+  std::vector<double> g_, w_, zeros_, correction_, transposed_;
+  std::vector<Vector<Dim>> t_, tangential_correction_;
+  std::vector<SymmetricTensor<Dim>> strain_;
+  ConjugateGradientWorkspace workspace_;
+};
+
+// The certified critical step of the boundary operator: undamped 2/sqrt(lambda_max(H)) (the
+// certified bound capped by `undamped_cap`, another upper bound of lambda_max), or with
+// dashpots the root of dt^2 lambda_max(H(dt)) = 4, times the local damping factor
+// 1/sqrt(1 + alpha). Fills the report of the last Lanczos solve.
+template <int Dim>
+struct BoundaryResult {
+  double critical_s = 0.0;  // certified, damped
+  double ritz_s = 0.0;      // from the Ritz values (unsafe side), damped
+  double undamped_s = 0.0;  // certified, without dashpots and local damping
+  double undamped_ritz_s = 0.0;
+  LanczosResult lanczos;
+  std::vector<double> mode;  // Ritz vector of the undamped solve (when asked for)
+  long inner_iterations = 0;
+  int fixed_point_iterations = 0;
+};
+
+template <int Dim>
+BoundaryResult<Dim> CriticalStep(const LinearisedNetwork<Dim>& network,
+                                 const ParticleCompliance<Dim>* compliance,
+                                 const StabilityOptions& options, LanczosOptions lanczos,
+                                 double local_damping_factor, double undamped_cap) {
+  BoundaryResult<Dim> result;
+  auto solve = [&](double dashpot_step, LanczosOptions o) {
+    BoundaryOperator<Dim> op(network, compliance, dashpot_step, options);
+    LanczosResult r = LargestEigenvalue(
+        network.dof_count(),
+        [&](const std::vector<double>& x, std::vector<double>& y) { op.Apply(x, y); }, o);
+    result.inner_iterations += op.inner_iterations();
+    return r;
+  };
+  result.lanczos = solve(0.0, lanczos);
+  result.mode = result.lanczos.ritz_vector;
+  // Another valid upper bound (Gershgorin for the DEM operator) may be lower.
+  result.lanczos.certified_upper_bound = std::max(
+      result.lanczos.ritz_value, std::min(result.lanczos.certified_upper_bound, undamped_cap));
+  result.undamped_s = TimeStepOf(result.lanczos.certified_upper_bound, 1.0);
+  result.undamped_ritz_s = TimeStepOf(std::max(result.lanczos.ritz_value, 0.0), 1.0);
+  double step = result.undamped_s, ritz_step = result.undamped_ritz_s;
+  if (network.has_dashpots() && std::isfinite(step)) {
+    // The boundary dt^2 lambda_max(H(dt)) = 4, i.e. phi(dt) = dt sqrt(lambda(dt)) - 2 = 0;
+    // phi increases with dt (dt^2 H(dt) = dt^2 A + 2 dt C). Secant iterations from the
+    // undamped step (phi >= 0) and one fixed-point step, on the certified bounds.
+    lanczos.compute_ritz_vector = false;
+    auto phi = [&](double dt) {
+      const LanczosResult r = solve(dt, lanczos);
+      ++result.fixed_point_iterations;
+      result.lanczos = r;
+      ritz_step = TimeStepOf(r.ritz_value, 1.0);
+      return dt * std::sqrt(r.certified_upper_bound) - 2.0;
+    };
+    double previous = step, previous_phi = phi(step);
+    double current = TimeStepOf(result.lanczos.certified_upper_bound, 1.0);
+    double current_phi = phi(current);
+    for (int k = 0;
+         k < 30 && std::abs(current - previous) > 1e-9 * current && current_phi != previous_phi;
+         ++k) {
+      double next = current - current_phi * (current - previous) / (current_phi - previous_phi);
+      next = std::clamp(next, 0.5 * current, 2.0 * current);
+      previous = current;
+      previous_phi = current_phi;
+      current = next;
+      current_phi = phi(current);
+    }
+    step = current * (1.0 - 1e-8);
+  }
+  result.critical_s = step * local_damping_factor;
+  result.ritz_s = ritz_step * local_damping_factor;
+  return result;
+}
+
+// Damping (local alpha or dashpot ratio) that held the flutter of DDEM with kt > 0 in the
+// benchmark (tools/bench/stability_bench.py): alpha = 0.05 did in 2D, not in 3D; 0.1 did in
+// both (kt = kn and 1.25 kn, kn/(Ep l) at half its limit).
+constexpr double kFlutterDamping = 0.1;
+
+struct Limit {
+  std::string name;
+  double margin = 0.0;  // fraction; < 0: beyond the limit
+  bool marginal = false;
+  std::string detail;
+};
+
+}  // namespace
+
+bool StabilityOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& field, double value, const std::string& range) {
+    if (error) *error = field + " = " + Number(value) + " is not allowed: it must be " + range;
+    return false;
+  };
+  if (!(proposed_time_step_s >= 0.0) || !std::isfinite(proposed_time_step_s))
+    return fail("proposed_time_step_s", proposed_time_step_s, "finite and >= 0 (0: none)");
+  if (!(safety_factor > 0.0 && safety_factor <= 1.0))
+    return fail("safety_factor", safety_factor, "in (0, 1]");
+  if (!(time_step_margin >= 0.0 && time_step_margin < 0.5))
+    return fail("time_step_margin", time_step_margin, "in [0, 0.5)");
+  if (!(max_spectral_radius > 0.0 && max_spectral_radius <= 1.0))
+    return fail("max_spectral_radius", max_spectral_radius, "in (0, 1]");
+  if (!(ddem_relative_tolerance > 0.0 && ddem_relative_tolerance < 0.5))
+    return fail("ddem_relative_tolerance", ddem_relative_tolerance, "in (0, 0.5)");
+  if (!(inner_tolerance > 0.0 && inner_tolerance < 1e-3))
+    return fail("inner_tolerance", inner_tolerance, "in (0, 1e-3)");
+  if (inner_max_iterations < 1) return fail("inner_max_iterations", inner_max_iterations, ">= 1");
+  for (const double nu : sweep_poisson_ratios)
+    if (!(nu > -1.0 && nu < 0.5)) return fail("sweep nu_p", nu, "in (-1, 0.5)");
+  std::string inner;
+  if (!lanczos.IsValid(&inner)) {
+    if (error) *error = "lanczos." + inner;
+    return false;
+  }
+  return true;
+}
+
+template <int Dim>
+StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOptions<Dim>& scene,
+                                  const StabilityOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("stability analysis: " + error);
+  const auto start = std::chrono::steady_clock::now();
+  const LinearisedNetwork<Dim> network(packing, scene);
+  const MaterialParameters& material = scene.material;
+  StabilitySummary s;
+
+  // 1. The scene.
+  s.dimension = Dim;
+  s.particles = network.particle_count();
+  s.links = network.link_count();
+  s.contact_links = network.contact_links();
+  s.wall_links = network.wall_links();
+  s.rattler_links = network.rattler_links();
+  s.rattlers_without_neighbour = network.rattlers_without_neighbour();
+  s.degrees_of_freedom = network.dof_count();
+  s.fixed_degrees_of_freedom = network.fixed_dofs();
+  s.rotation = network.has_rotation();
+  s.normal_stiffness_n_per_m = material.normal_stiffness_n_per_m;
+  s.tangential_stiffness_n_per_m = material.tangential_stiffness_n_per_m;
+  s.deformable = material.deformable();
+  s.particle_poisson_ratio = material.particle_poisson_ratio;
+  if (s.deformable) s.particle_youngs_modulus_pa = *material.particle_youngs_modulus_pa;
+  s.particle_model = !s.deformable ? "rigid"
+                     : Dim == 3    ? "3D isotropic"
+                                   : PlaneModelName(material.plane_model);
+  s.group_length_m = Dim == 2 ? 1.0 : VolumeMeanRadius<Dim>(packing.radii);
+
+  // 2. The solver's per-particle bound (time_step.h), for comparison; local damping factor.
+  const ParticleArrays<Dim> particles = BuildParticles<Dim>(packing, material, false);
+  const CriticalTimeStepEstimate per_particle = PerParticleCriticalTimeStep<Dim>(
+      particles, network.ContactPairs(), material, network.WallStiffnessPerParticle());
+  s.per_particle_bound_s = per_particle.per_particle_bound_s;
+  s.guaranteed_bound_s = per_particle.guaranteed_bound_s;
+  s.local_damping_factor = per_particle.local_damping_factor;
+
+  // 3. omega_max^2 of M^-1/2 K M^-1/2: Lanczos (certified) and Gershgorin (deterministic);
+  //    with dashpots, the damped boundary (fixed point in dt).
+  const int dofs = network.dof_count();
+  double dem_ritz = 0.0, dem_upper = 0.0;
+  if (dofs > 0 && network.link_count() > 0) {
+    LanczosOptions lanczos = StageOptions(options, "omega_max (DEM)");
+    lanczos.compute_ritz_vector = options.locate_mode;
+    const double gershgorin = network.GershgorinBound();
+    s.gershgorin_bound_s = TimeStepOf(gershgorin, 1.0);
+    const BoundaryResult<Dim> dem =
+        CriticalStep<Dim>(network, nullptr, options, lanczos, s.local_damping_factor, gershgorin);
+    s.dem_eigenvalue = Report(dem.lanczos);
+    dem_ritz = 4.0 / (dem.undamped_ritz_s * dem.undamped_ritz_s);
+    dem_upper = 4.0 / (dem.undamped_s * dem.undamped_s);
+    s.dem_time_step_ritz_s = dem.ritz_s;
+    s.dem_critical_time_step_s = dem.critical_s;
+    s.dashpot_factor = dem.critical_s / (dem.undamped_s * s.local_damping_factor);
+    s.dashpot_fixed_point_iterations = dem.fixed_point_iterations;
+    // Where the mode lives: the particle with the largest share of sum y^2 (mass-scaled
+    // coordinates: the mode's kinetic energy).
+    const std::vector<double>& mode = dem.mode;
+    if (!mode.empty()) {
+      std::vector<double> share(s.particles, 0.0);
+      double rotational = 0.0;
+      for (int d = 0; d < dofs; ++d) {
+        const double e = mode[d] * mode[d];
+        const int owner = network.DofOwner(d);
+        if (owner >= 0) share[owner] += e;
+        if (network.DofIsRotation(d)) rotational += e;
+      }
+      const auto top = std::max_element(share.begin(), share.end());
+      s.mode_particle = static_cast<int>(top - share.begin());
+      s.mode_particle_share = *top;
+      s.mode_particle_radius_m = network.radius(s.mode_particle);
+      s.mode_rotational_share = rotational;
+    }
+  } else {
+    s.dem_time_step_ritz_s = s.dem_critical_time_step_s = s.gershgorin_bound_s =
+        std::numeric_limits<double>::infinity();
+  }
+  s.omega_max_ritz_rad_per_s = std::sqrt(dem_ritz);
+  s.omega_max_certified_rad_per_s = std::sqrt(dem_upper);
+  s.critical_time_step_s = s.dem_critical_time_step_s;
+  s.critical_time_step_method =
+      "2/omega_max, omega_max^2 certified by Lanczos (Kuczynski-Wozniakowski, failure "
+      "probability " +
+      Number(options.lanczos.failure_probability, 2) + ") and Gershgorin";
+  if (network.has_dashpots())
+    s.critical_time_step_method += ", dashpots at the boundary z = -1 (2c/dt)";
+  if (!std::isfinite(s.critical_time_step_s)) {
+    // Nothing can oscillate (no links, or every axis prescribed): the per-particle bound
+    // (which counts one contact per particle) is all there is.
+    s.critical_time_step_s = s.per_particle_bound_s;
+    s.critical_time_step_method = "per-particle bound (the network has no stiffness)";
+  }
+
+  // 4. DDEM convergence: lambda_max(S^) for Ep = 1.
+  const ParticleCompliance<Dim> unit_compliance(1.0, material.particle_poisson_ratio,
+                                                material.plane_model);
+  s.max_spectral_radius = options.max_spectral_radius;
+  s.lattice = ClosedFormLimits(Dim, material.particle_poisson_ratio, material.plane_model);
+  auto unit_radius = [&](const ParticleCompliance<Dim>& compliance, const std::string& label,
+                         EigenvalueReport* report) {
+    if (network.link_count() == 0) return 0.0;
+    const LanczosResult r = LargestEigenvalue(
+        network.link_count(),
+        [&](const std::vector<double>& x, std::vector<double>& y) {
+          network.ApplyDdemOperator(compliance, x, y);
+        },
+        StageOptions(options, label));
+    if (report) *report = Report(r);
+    return r.certified_upper_bound;
+  };
+  const double kn = material.normal_stiffness_n_per_m;
+  s.unit_spectral_radius_pa = unit_radius(unit_compliance, "rho(B)", &s.convergence_eigenvalue);
+  if (s.unit_spectral_radius_pa > 0.0) {
+    s.admissible_kn_over_ep = kn / (s.group_length_m * s.unit_spectral_radius_pa);
+    s.recommended_kn_over_ep = options.max_spectral_radius * s.admissible_kn_over_ep;
+    s.smallest_youngs_modulus_pa = s.unit_spectral_radius_pa / options.max_spectral_radius;
+  }
+  if (s.deformable) {
+    const double ep = s.particle_youngs_modulus_pa;
+    s.spectral_radius = s.unit_spectral_radius_pa / ep;
+    s.spectral_radius_ritz = s.convergence_eigenvalue.ritz_value / ep;
+    s.kn_over_ep = kn / (ep * s.group_length_m);
+  }
+
+  // 5. The DDEM time step (z = -1 effective stiffness), when the iteration converges.
+  if (s.deformable && s.spectral_radius < 1.0 && dofs > 0 && network.link_count() > 0) {
+    const ParticleCompliance<Dim> compliance(s.particle_youngs_modulus_pa,
+                                             material.particle_poisson_ratio, material.plane_model);
+    LanczosOptions lanczos = StageOptions(options, "omega_max (DDEM)");
+    lanczos.relative_tolerance = options.ddem_relative_tolerance;
+    const BoundaryResult<Dim> ddem =
+        CriticalStep<Dim>(network, &compliance, options, lanczos, s.local_damping_factor,
+                          std::numeric_limits<double>::infinity());
+    s.ddem_eigenvalue = Report(ddem.lanczos);
+    s.ddem_eigenvalue.inner_iterations = static_cast<int>(ddem.inner_iterations);
+    s.ddem_time_step_ritz_s = ddem.ritz_s;
+    s.ddem_critical_time_step_s = ddem.critical_s;
+    s.ddem_reduction_percent = 100.0 * (1.0 - s.ddem_time_step_ritz_s / s.dem_time_step_ritz_s);
+    s.ddem_time_step_available = true;
+    s.critical_time_step_s = s.ddem_critical_time_step_s;
+    s.critical_time_step_method =
+        "2/omega_max of the DDEM scheme (z = -1 effective stiffness C^T (I - L)^-1 K C), "
+        "certified by Lanczos (Kuczynski-Wozniakowski, failure probability " +
+        Number(options.lanczos.failure_probability, 2) + ")";
+    if (network.has_dashpots())
+      s.critical_time_step_method += ", dashpots at the boundary z = -1 (2c/dt)";
+  } else if (s.deformable && s.spectral_radius >= 1.0) {
+    s.critical_time_step_method =
+        "none: the DDEM force iteration diverges (rho(B) >= 1) at any time step; the DEM value "
+        "is shown";
+  }
+  // Madan assumption 5 makes DDEM with tangential springs non-conservative (header).
+  s.flutter_possible = s.deformable && network.has_tangential();
+  s.safety_factor = options.safety_factor;
+  s.recommended_time_step_s = options.safety_factor * s.critical_time_step_s;
+
+  // 6. Verdict for the proposed (or the recommended) step.
+  s.judged_time_step_s = options.proposed_time_step_s > 0.0 ? options.proposed_time_step_s
+                                                            : scene.time_step.time_step_s;
+  s.judged_time_step_proposed = s.judged_time_step_s > 0.0;
+  if (!s.judged_time_step_proposed) s.judged_time_step_s = s.recommended_time_step_s;
+  std::vector<Limit> limits;
+  {
+    Limit step;
+    step.name = s.ddem_time_step_available ? "critical time step (DDEM)" : "critical time step";
+    step.margin = 1.0 - s.judged_time_step_s / s.critical_time_step_s;
+    step.marginal = step.margin < options.time_step_margin;
+    step.detail = "time step " + Number(s.judged_time_step_s) + " s against the critical " +
+                  Number(s.critical_time_step_s) + " s";
+    s.time_step_margin_percent = 100.0 * step.margin;
+    limits.push_back(step);
+  }
+  if (s.deformable) {
+    Limit convergence;
+    convergence.name = "DDEM convergence rho(B) < 1";
+    convergence.margin = 1.0 - s.spectral_radius;
+    convergence.marginal = s.spectral_radius > options.max_spectral_radius;
+    convergence.detail = "rho(B) = " + Number(s.spectral_radius, 5) +
+                         " (required <= " + Number(options.max_spectral_radius, 4) +
+                         "; kn/(Ep l) = " + Number(s.kn_over_ep, 5) + ", admissible " +
+                         Number(s.admissible_kn_over_ep, 5) + ")";
+    s.spectral_radius_margin_percent = 100.0 * convergence.margin;
+    limits.push_back(convergence);
+  }
+  const Limit* binding = &limits.front();
+  for (const Limit& l : limits)
+    if (l.margin < binding->margin) binding = &l;
+  // A step at the limit itself is still bounded; rho(B) = 1 is not.
+  bool unstable = limits.front().margin < 0.0 || (s.deformable && s.spectral_radius >= 1.0);
+  bool marginal = false;
+  for (const Limit& l : limits) marginal = marginal || l.marginal;
+  s.verdict_message.clear();
+  if (s.flutter_possible) {
+    // Undamped: it grows (benchmark: within about 1e-4 s of simulated time at kn/(Ep l) =
+    // 0.35, kt = kn, 2D); local damping alpha = 0.1 held it in 2D and 3D.
+    const double alpha = std::max(material.translational_damping, material.rotational_damping);
+    const bool damped =
+        alpha >= kFlutterDamping || material.normal_dashpot_ratio >= kFlutterDamping;
+    if (alpha == 0.0 && !network.has_dashpots()) {
+      unstable = true;
+    } else if (!damped) {
+      marginal = true;
+    }
+    s.flutter_message =
+        std::string(alpha == 0.0 && !network.has_dashpots() ? "undamped"
+                    : damped                                ? "damped"
+                                                            : "weakly damped") +
+        " DDEM with tangential springs: the model is not conservative (Madan assumption 5), "
+        "slowly growing modes exist at any time step; local damping alpha >= " +
+        Number(kFlutterDamping) + " (or dashpots) held them in the benchmark";
+    if (!damped) {
+      s.binding_limit = "DDEM with kt > 0 needs damping (flutter)";
+      s.margin_percent = 0.0;
+    }
+  }
+  s.verdict = unstable ? "unstable" : marginal ? "marginal" : "stable";
+  if (s.binding_limit.empty()) {
+    s.binding_limit = binding->name;
+    s.margin_percent = 100.0 * binding->margin;
+  }
+  s.verdict_message = s.verdict + ": binding limit " + s.binding_limit + ", margin " +
+                      Number(s.margin_percent, 4) + " % (" + binding->detail + ")";
+  if (s.binding_limit.rfind("DDEM with kt > 0", 0) == 0)
+    s.verdict_message += "; " + s.flutter_message;
+
+  // Limits of the linear analysis worth a word in this scene.
+  if (s.flutter_possible) s.warnings.push_back(s.flutter_message);
+  const bool undamped = !network.has_dashpots() && material.translational_damping == 0.0 &&
+                        material.rotational_damping == 0.0;
+  if (s.wall_links > 0 && undamped)
+    s.warnings.push_back(
+        "walls hold only in compression: a particle meeting or leaving a wall is an impact, "
+        "which central differences integrate with an energy error at any step, so an undamped "
+        "run can grow below the critical step (the limit assumes closed wall contacts); use "
+        "damping");
+  if (s.rattlers_without_neighbour > 0)
+    s.warnings.push_back(std::to_string(s.rattlers_without_neighbour) +
+                         " particle(s) have no link and no neighbour within the search skin: "
+                         "not part of the analysis");
+  if (s.deformable && s.spectral_radius >= 1.0)
+    s.warnings.push_back("rho(B) >= 1: the DDEM scheme diverges at any time step (Madan (3.13))");
+
+  // 7. The sweep of the admissible kn/(Ep l) against nu_p.
+  for (size_t k = 0; k < options.sweep_poisson_ratios.size(); ++k) {
+    const double nu = options.sweep_poisson_ratios[k];
+    SweepRow row;
+    row.poisson_ratio = nu;
+    const ParticleCompliance<Dim> compliance(1.0, nu, material.plane_model);
+    row.spectral_radius_times_ep_pa =
+        unit_radius(compliance,
+                    "sweep nu_p = " + Number(nu, 3) + " (" + std::to_string(k + 1) + "/" +
+                        std::to_string(options.sweep_poisson_ratios.size()) + ")",
+                    nullptr);
+    if (row.spectral_radius_times_ep_pa > 0.0) {
+      row.admissible_kn_over_ep = kn / (s.group_length_m * row.spectral_radius_times_ep_pa);
+      row.recommended_kn_over_ep = options.max_spectral_radius * row.admissible_kn_over_ep;
+    }
+    row.lattice = ClosedFormLimits(Dim, nu, material.plane_model);
+    s.sweep.push_back(row);
+  }
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return s;
+}
+
+template StabilitySummary AnalyseStability<2>(const Packing<2>&, const SceneOptions<2>&,
+                                              const StabilityOptions&);
+template StabilitySummary AnalyseStability<3>(const Packing<3>&, const SceneOptions<3>&,
+                                              const StabilityOptions&);
+
+}  // namespace specimen

@@ -1,0 +1,205 @@
+// The stability-limit command as a user runs it: the sample runs of its header comment, the
+// JSON keys, the files, the exit statuses and the messages for bad input (no file written).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+Result Execute(const std::string& command) {
+  Result result;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  char buffer[4096];
+  while (fgets(buffer, sizeof(buffer), pipe)) result.output += buffer;
+  const int raw = pclose(pipe);
+  result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return result;
+}
+
+Result StabilityLimit(const std::string& arguments) {
+  return Execute(std::string(SPECIMEN_BINARY_DIR) + "/tools/stability-limit " + arguments +
+                 " --quiet");
+}
+
+fs::path FreshDirectory(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("specimen_stability_cli_" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+bool EmptyOrMissing(const fs::path& dir) { return !fs::exists(dir) || fs::is_empty(dir); }
+
+nlohmann::json ReadJson(const fs::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+// A small generated packing, made once for the suite (generate-packing, as a user would).
+class StabilityLimitCommand : public testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const fs::path dir = FreshDirectory("packing");
+    const Result r = Execute(std::string(SPECIMEN_BINARY_DIR) +
+                             "/tools/generate-packing --domain \"rectangle 0 0 0.01 0.01\" "
+                             "--count 300 --no-pictures --quiet --output " +
+                             dir.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    packing_ = (dir / "packing.packing").string();
+  }
+  static std::string packing_;
+};
+std::string StabilityLimitCommand::packing_;
+
+TEST_F(StabilityLimitCommand, FirstSampleRunWritesTheReportAndJson) {
+  const fs::path dir = FreshDirectory("first");
+  const Result r = StabilityLimit("--packing " + packing_ + " --kn 7e10 --density 2000 --output " +
+                                  dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* text : {"per-particle bound", "2/omega_max, certified (DEM)",
+                           "admissible kn/(Ep l)", "Verdict for the recommended time step"})
+    EXPECT_NE(r.output.find(text), std::string::npos) << text << "\n" << r.output;
+  const nlohmann::json j = ReadJson(dir / "packing_stability.json");
+  EXPECT_EQ(j["command"], "stability-limit");
+  const nlohmann::json& a = j["analysis"];
+  for (const char* key : {"scene", "time_step", "ddem_convergence", "verdict", "sweep", "warnings"})
+    EXPECT_TRUE(a.contains(key)) << key;
+  for (const char* key : {"per_particle_bound_s", "gershgorin_bound_s", "dem_critical_time_step_s",
+                          "critical_time_step_s", "recommended_time_step_s", "dem_eigenvalue"})
+    EXPECT_TRUE(a["time_step"].contains(key)) << key;
+  for (const char* key : {"unit_spectral_radius_pa", "admissible_kn_over_ep",
+                          "recommended_kn_over_ep", "smallest_youngs_modulus_pa", "lattice_limits"})
+    EXPECT_TRUE(a["ddem_convergence"].contains(key)) << key;
+  EXPECT_EQ(a["verdict"]["verdict"], "stable");
+  // The recommended step is 0.9 of the certified one, which is at most the Ritz estimate.
+  const double critical = a["time_step"]["critical_time_step_s"];
+  EXPECT_NEAR(a["time_step"]["recommended_time_step_s"].get<double>(), 0.9 * critical,
+              1e-12 * critical);
+  EXPECT_LE(critical, a["time_step"]["dem_time_step_ritz_s"].get<double>());
+  EXPECT_TRUE(a["ddem_convergence"]["spectral_radius"].is_null());  // rigid particles
+}
+
+TEST_F(StabilityLimitCommand, SecondSampleRunJudgesADdemStep) {
+  const fs::path dir = FreshDirectory("second");
+  const Result r = StabilityLimit("--packing " + packing_ +
+                                  " --kn 7e10 --kt 3.5e10 --density 2000 --Ep 2e11 --nu-p 0.35 "
+                                  "--dt 2.5e-8 --damping 0.1 --output " +
+                                  dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const nlohmann::json a = ReadJson(dir / "packing_stability.json")["analysis"];
+  EXPECT_TRUE(a["time_step"]["ddem_available"].get<bool>());
+  EXPECT_NEAR(a["ddem_convergence"]["kn_over_ep"].get<double>(), 0.35, 1e-12);
+  EXPECT_EQ(a["verdict"]["time_step_s"].get<double>(), 2.5e-8);
+  EXPECT_TRUE(a["verdict"]["time_step_proposed"].get<bool>());
+  EXPECT_TRUE(a["time_step"]["flutter_possible"].get<bool>());  // kt > 0 with DDEM
+  EXPECT_NE(r.output.find("Verdict for the proposed time step 2.5e-08 s"), std::string::npos)
+      << r.output;
+}
+
+TEST_F(StabilityLimitCommand, ThirdSampleRunReadsAParameterFileAndSweeps) {
+  const fs::path dir = FreshDirectory("third");
+  fs::create_directories(dir);
+  const fs::path toml = dir / "params.toml";
+  std::ofstream(toml) << "[material]\nnormal_stiffness = 7e10\ndensity = 2000.0\n"
+                         "particle_youngs_modulus = 2e11\nparticle_poisson_ratio = 0.25\n"
+                         "[stability]\nmax_spectral_radius = 0.9\n";
+  const fs::path out = dir / "out";
+  const Result r =
+      StabilityLimit("--packing " + packing_ + " --parameters " + toml.string() +
+                     " --sweep nu_p --sweep-values 0,0.25,0.45 --output " + out.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::exists(out / "packing_sweep_nu_p.csv"));
+  const nlohmann::json a = ReadJson(out / "packing_stability.json")["analysis"];
+  EXPECT_EQ(a["sweep"].size(), 3u);
+  EXPECT_EQ(a["ddem_convergence"]["max_spectral_radius"].get<double>(), 0.9);
+  EXPECT_EQ(a["scene"]["particle_poisson_ratio"].get<double>(), 0.25);
+  // The sweep row at nu_p = 0.25 is the analysis' own limit.
+  EXPECT_NEAR(a["sweep"][1]["admissible_kn_over_ep"].get<double>(),
+              a["ddem_convergence"]["admissible_kn_over_ep"].get<double>(), 1e-12);
+  // An option overrides the file.
+  const Result over = StabilityLimit("--packing " + packing_ + " --parameters " + toml.string() +
+                                     " --nu-p 0.3 --output " + out.string());
+  ASSERT_EQ(over.status, 0) << over.output;
+  EXPECT_EQ(ReadJson(out / "packing_stability.json")["analysis"]["scene"]["particle_poisson_ratio"]
+                .get<double>(),
+            0.3);
+}
+
+TEST_F(StabilityLimitCommand, FourthSampleRunWithWalls) {
+  const fs::path dir = FreshDirectory("fourth");
+  const Result r = StabilityLimit("--packing " + packing_ +
+                                  " --kn 7e10 --density 2000 --walls bottom,top "
+                                  "--wall-stiffness 7e11 --damping 0.1 --output " +
+                                  dir.string() + " --name ucs");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const nlohmann::json a = ReadJson(dir / "ucs_stability.json")["analysis"];
+  EXPECT_GT(a["scene"]["wall_links"].get<int>(), 0);
+  // Stiff walls lower the limit below that of the free packing.
+  const Result free =
+      StabilityLimit("--packing " + packing_ + " --kn 7e10 --density 2000 --damping 0.1 --output " +
+                     dir.string() + " --name free");
+  ASSERT_EQ(free.status, 0) << free.output;
+  const nlohmann::json b = ReadJson(dir / "free_stability.json")["analysis"];
+  EXPECT_LT(a["time_step"]["critical_time_step_s"].get<double>(),
+            b["time_step"]["critical_time_step_s"].get<double>());
+}
+
+TEST_F(StabilityLimitCommand, BadInputExitsWithTwoAndWritesNothing) {
+  const fs::path bad_toml = fs::temp_directory_path() / "specimen_stability_bad.toml";
+  std::ofstream(bad_toml) << "[material]\nnormal_stiffness = 7e10\nstiffness = 3\n";
+  struct Case {
+    std::string arguments;
+    std::string must_mention;
+  };
+  const Case cases[] = {
+      {"--density 2000", "kn is missing"},
+      {"--kn 7e10", "density is missing"},
+      {"--kn -7e10 --density 2000", "normal_stiffness_n_per_m (kn) = -7e+10"},
+      {"--kn 7e10 --density 2000 --Ep 2e11 --nu-p 0.6", "particle_poisson_ratio (nu_p) = 0.6"},
+      {"--kn 7e10 --density 2000 --plane cylinder", "plane_model = 'cylinder'"},
+      {"--kn 7e10 --density 2000 --dt -1", "time_step = -1"},
+      {"--kn 7e10 --density 2000 --safety 1.5", "safety_factor = 1.5"},
+      {"--kn 7e10 --density 2000 --walls bottom,diagonal", "side 'diagonal'"},
+      {"--kn 7e10 --density 2000 --sweep E", "--sweep 'E'"},
+      {"--kn 7e10 --density 2000 --sweep nu_p --sweep-values 0.2,0.7", "sweep nu_p = 0.7"},
+      {"--parameters " + bad_toml.string() + " --density 2000", "unknown key 'stiffness'"},
+  };
+  for (const Case& c : cases) {
+    const fs::path dir = FreshDirectory("bad");
+    const Result r =
+        StabilityLimit("--packing " + packing_ + " " + c.arguments + " --output " + dir.string());
+    EXPECT_EQ(r.status, 2) << c.arguments << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.must_mention), std::string::npos) << c.arguments << "\n" << r.output;
+    EXPECT_TRUE(EmptyOrMissing(dir)) << c.arguments;
+  }
+}
+
+TEST_F(StabilityLimitCommand, FileErrorsExitWithThree) {
+  const fs::path dir = FreshDirectory("files");
+  Result r = StabilityLimit("--packing /nonexistent/p.packing --kn 7e10 --density 2000 --output " +
+                            dir.string());
+  EXPECT_EQ(r.status, 3) << r.output;
+  const fs::path broken = fs::temp_directory_path() / "specimen_stability_broken.toml";
+  std::ofstream(broken) << "[material\nnormal_stiffness = \n";
+  r = StabilityLimit("--packing " + packing_ + " --parameters " + broken.string() + " --output " +
+                     dir.string());
+  EXPECT_EQ(r.status, 3) << r.output;
+  EXPECT_NE(r.output.find("line 1"), std::string::npos) << r.output;
+  EXPECT_TRUE(EmptyOrMissing(dir));
+  r = StabilityLimit("--packing " + packing_ +
+                     " --kn 7e10 --density 2000 --output /proc/specimen_no");
+  EXPECT_EQ(r.status, 3) << r.output;
+}
+
+}  // namespace

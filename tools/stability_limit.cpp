@@ -1,0 +1,227 @@
+// stability-limit: the critical time step and the DDEM convergence bound of a bonded packing
+// for a parameter set, certified, and a verdict for a proposed time step (issue 5; the
+// analysis is solver/stability_analysis.h, the parameter file solver/stability_parameters.h).
+//
+// Sample runs:
+//   stability-limit --packing out/packing.packing --kn 7e10 --density 2000
+//   stability-limit --packing out/packing.packing --kn 7e10 --kt 3.5e10 --density 2000
+//                   --Ep 2e11 --nu-p 0.35 --dt 2.5e-8 --damping 0.1
+//   stability-limit --packing out/packing.packing --parameters params.toml --sweep nu_p
+//   stability-limit --packing out/packing.packing --kn 7e10 --density 2000 --walls bottom,top
+//                   --wall-stiffness 7e11 --damping 0.1 --output out --name ucs
+// (one command per sample, continued on the indented line).
+//
+// Reads a packing file (generate-packing output) and the parameters (a TOML file and/or the
+// options; an option wins over the file). Prints the report: the per-particle bound, the
+// certified 2/omega_max of the network (DEM and DDEM), the recommended step, rho(B) of the
+// DDEM force iteration and the admissible kn/(Ep l) with the lattice closed forms, and the
+// verdict (stable / marginal / unstable, the binding limit and its margin in per cent).
+// Writes into --output (default out/): NAME_stability.json; with --sweep nu_p also
+// NAME_sweep_nu_p.csv and NAME_sweep_nu_p.png (gnuplot). Exit statuses: tools/command_line.h
+// (a successful analysis exits 0 whatever the verdict; read it from the JSON). Bad input: a
+// message naming the field and its allowed range, exit status 2, and no file written.
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "common/atomic_file.h"
+#include "common/plot.h"
+#include "common/progress.h"
+#include "generator/packing_io.h"
+#include "solver/stability_parameters.h"
+#include "specimen_version.h"
+#include "tools/command_line.h"
+
+namespace specimen {
+namespace {
+
+struct CommandLine {
+  std::string packing;
+  std::string parameters;
+  StabilityParameters values;  // from the options; empty fields fall back to the file
+  std::string walls;
+  std::string sweep;
+  std::vector<double> sweep_values;
+  double margin_percent = -1.0;
+  double failure_probability = -1.0;
+  double tolerance_percent = -1.0;
+  int threads = 1;
+  std::string output = "out";
+  std::string name = "packing";
+  bool pictures = true;
+  bool quiet = false;
+};
+
+// The nu_p values of --sweep nu_p when --sweep-values is not given.
+const std::vector<double> kDefaultSweep = {0.0, 0.05, 0.1, 0.15, 0.2,  0.25,
+                                           0.3, 0.35, 0.4, 0.45, 0.49, 0.499};
+
+std::string SweepCsv(const StabilitySummary& summary) {
+  std::ostringstream out;
+  out.precision(10);
+  out << "nu_p,admissible_kn_over_ep,recommended_kn_over_ep,unit_spectral_radius_pa,row,sc,hcp\n";
+  for (const SweepRow& r : summary.sweep)
+    out << r.poisson_ratio << "," << r.admissible_kn_over_ep << "," << r.recommended_kn_over_ep
+        << "," << r.spectral_radius_times_ep_pa << "," << r.lattice.row << "," << r.lattice.square
+        << "," << r.lattice.hexagonal << "\n";
+  return out.str();
+}
+
+std::string SweepPlot(const std::string& csv, const StabilitySummary& summary) {
+  const std::string length = summary.dimension == 2 ? "l" : "R_{mean}";
+  std::ostringstream gp;
+  gp << "set datafile separator ','\n"
+     << "set key top right\nset grid\n"
+     << "set xlabel 'particle Poisson ratio {/Symbol n}_p'\n"
+     << "set ylabel 'admissible k_n/(E_p " << length << ")'\n"
+     << "set title 'DDEM convergence limit rho(B) = 1 of the packing (" << summary.particles
+     << " particles, " << summary.particle_model << ")'\n"
+     << "plot " << GnuplotQuote(csv)
+     << " using 1:2 skip 1 with linespoints lw 2 pt 7 title 'this packing, rho(B) = 1', \\\n"
+     << "     '' using 1:3 skip 1 with lines dt 2 lw 2 title 'this packing, rho(B) = "
+     << summary.max_spectral_radius << "', \\\n"
+     << "     '' using 1:5 skip 1 with lines title 'row (Madan 3.27)', \\\n"
+     << "     '' using 1:6 skip 1 with lines title 'SC (3.42)'";
+  if (summary.dimension == 2) gp << ", \\\n     '' using 1:7 skip 1 with lines title 'HCP (3.78)'";
+  gp << "\n";
+  return gp.str();
+}
+
+template <int Dim>
+int Run(const CommandLine& cl) {
+  // 1. The parameter set: options over the file, validated before any work.
+  StabilityParameters values = cl.values;
+  if (!cl.walls.empty()) {
+    std::vector<std::string> sides;
+    std::stringstream list(cl.walls);
+    std::string side;
+    while (std::getline(list, side, ',')) sides.push_back(side);
+    values.wall_sides = sides;
+  }
+  if (cl.margin_percent >= 0.0) values.time_step_margin = cl.margin_percent / 100.0;
+  if (!cl.parameters.empty())
+    values = MergeStabilityParameters(values, LoadStabilityParameters(cl.parameters));
+  if (!cl.sweep.empty() && cl.sweep != "nu_p")
+    throw InputError("--sweep '" + cl.sweep + "' is not allowed: the only sweep is nu_p");
+  if (cl.threads < 1)
+    throw InputError("--threads = " + std::to_string(cl.threads) +
+                     " is not allowed: it must be >= 1");
+  const Packing<Dim> packing = LoadPacking<Dim>(cl.packing);
+  SceneOptions<Dim> scene = StabilitySceneOf<Dim>(values, packing);
+  scene.num_threads = cl.threads;
+  StabilityOptions options = StabilityOptionsOf(values);
+  if (cl.failure_probability > 0.0) options.lanczos.failure_probability = cl.failure_probability;
+  if (cl.tolerance_percent > 0.0) options.lanczos.relative_tolerance = cl.tolerance_percent / 100.0;
+  if (!cl.sweep.empty())
+    options.sweep_poisson_ratios = cl.sweep_values.empty() ? kDefaultSweep : cl.sweep_values;
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(error);
+  if (cl.name.empty() || cl.name.find('/') != std::string::npos)
+    throw InputError("--name '" + cl.name + "' is not allowed: a non-empty file name without '/'");
+
+  // 2. Fail on an unusable output location now, not after the work.
+  EnsureDirectory(cl.output, "output directory");
+  RequireWritableDirectory(cl.output, "output directory");
+
+  // 3. The analysis, with progress on a terminal.
+  TerminalProgress progress(cl.quiet);
+  options.progress = progress.Callback();
+  const StabilitySummary summary = AnalyseStability<Dim>(packing, scene, options);
+  progress.Finish();
+
+  // 4. Files: JSON (and the sweep CSV) together, then the picture from the CSV.
+  const std::string base = cl.output + "/" + cl.name;
+  nlohmann::json report;
+  report["command"] = "stability-limit";
+  report["version"] = kVersion;
+  report["packing"] = cl.packing;
+  report["parameters_file"] = cl.parameters;
+  report["analysis"] = summary.ToJson();
+  OutputGroup group;
+  group.Add(base + "_stability.json", [&](std::ostream& out) { out << report.dump(2) << "\n"; });
+  const std::string csv = base + "_sweep_nu_p.csv";
+  if (!summary.sweep.empty()) group.Add(csv, [&](std::ostream& out) { out << SweepCsv(summary); });
+  std::vector<std::string> files = group.Commit();
+  std::vector<std::string> warnings;
+  if (!summary.sweep.empty() && cl.pictures) {
+    const std::string png = base + "_sweep_nu_p.png";
+    std::string plot_error;
+    if (RenderGnuplot(SweepPlot(csv, summary), png, PlotOptions(), &plot_error))
+      files.push_back(png);
+    else
+      warnings.push_back(plot_error);
+  }
+
+  // 5. Report.
+  std::cout << summary.FullReport() << "\nfiles:\n";
+  for (const auto& file : files) std::cout << "  " << file << "\n";
+  for (const auto& warning : warnings) std::cerr << "warning: " << warning << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+}  // namespace specimen
+
+int main(int argc, char** argv) {
+  using namespace specimen;
+  CLI::App app{"stability-limit: critical time step and DDEM convergence bound of a packing"};
+  CommandLine cl;
+  StabilityParameters& v = cl.values;
+  app.set_version_flag("--version", std::string(kVersion));
+  app.add_option("--packing", cl.packing, "packing file (generate-packing output)")->required();
+  app.add_option("--parameters", cl.parameters,
+                 "TOML parameter file (solver/stability_parameters.h); options override it");
+  auto number = [&](const char* flag, std::optional<double>& field, const char* help) {
+    app.add_option_function<double>(
+        flag, [&field](double x) { field = x; }, help);
+  };
+  number("--kn", v.normal_stiffness_n_per_m, "normal contact stiffness kn [N/m] (> 0)");
+  number("--kt", v.tangential_stiffness_n_per_m, "tangential contact stiffness kt [N/m] (>= 0)");
+  number("--density", v.density_kg_per_m3, "particle density [kg/m^3] (> 0)");
+  number("--Ep", v.particle_youngs_modulus_pa, "DDEM particle Young's modulus [Pa]; absent: rigid");
+  number("--nu-p", v.particle_poisson_ratio, "DDEM particle Poisson ratio, in (-1, 0.5)");
+  app.add_option_function<std::string>(
+      "--plane", [&v](const std::string& s) { v.plane_model = s; },
+      "2D DDEM particles: strain (default) or stress");
+  app.add_option_function<double>(
+      "--damping", [&v](double x) { v.translational_damping = v.rotational_damping = x; },
+      "local damping alpha_t = alpha_r, in [0, 1)");
+  app.add_option_function<double>(
+      "--dashpot", [&v](double x) { v.normal_dashpot_ratio = v.tangential_dashpot_ratio = x; },
+      "contact dashpot ratio xi_n = xi_t (>= 0)");
+  number("--dt", v.time_step_s, "proposed time step to judge [s] (> 0)");
+  number("--safety", v.safety_factor,
+         "recommended step = safety x critical, in (0, 1], default 0.9");
+  number("--max-rho", v.max_spectral_radius,
+         "rho(B) above this is marginal, in (0, 1], default 0.95");
+  app.add_option("--margin", cl.margin_percent,
+                 "a step within this many per cent of the critical one is marginal, default 5");
+  app.add_option("--walls", cl.walls,
+                 "fixed walls on the packing's bounding box: comma-separated sides of left, "
+                 "right, bottom, top (and back, front in 3D)");
+  number("--wall-stiffness", v.wall_normal_stiffness_n_per_m,
+         "wall normal stiffness [N/m], default kn");
+  number("--wall-kt", v.wall_tangential_stiffness_n_per_m, "wall tangential stiffness [N/m]");
+  number("--wall-friction", v.wall_friction, "wall friction coefficient (with --wall-kt)");
+  app.add_option("--sweep", cl.sweep, "nu_p: the admissible kn/(Ep l) against nu_p (CSV + PNG)");
+  app.add_option("--sweep-values", cl.sweep_values, "the nu_p values of the sweep")->delimiter(',');
+  app.add_option("--failure-probability", cl.failure_probability,
+                 "probability that a certified bound fails, in (0, 0.1], default 1e-6");
+  app.add_option("--tolerance", cl.tolerance_percent,
+                 "per cent between the certified bound and the Ritz value of omega_max^2 and "
+                 "rho(B), default 0.4");
+  app.add_option("--threads", cl.threads, "OpenMP threads for the products, default 1");
+  app.add_option("--output", cl.output, "output directory (created), default out");
+  app.add_option("--name", cl.name, "file name prefix, default packing");
+  app.add_flag(
+      "--no-pictures", [&](std::int64_t) { cl.pictures = false; },
+      "do not draw the sweep picture (the CSV is still written)");
+  app.add_flag("--quiet", cl.quiet, "no progress display");
+  CLI11_PARSE(app, argc, argv);
+  return RunCommand("stability-limit", [&] {
+    return ReadPackingDimension(cl.packing) == 2 ? Run<2>(cl) : Run<3>(cl);
+  });
+}
