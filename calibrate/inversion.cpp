@@ -106,7 +106,7 @@ struct Optimum {
 
 Optimum Minimise(const MapSet& maps, Problem problem, const InversionOptions& options) {
   const int n = static_cast<int>(maps.inputs.size());
-  const Eigen::VectorXd lower = maps.poisson_ratio.lower(), upper = maps.poisson_ratio.upper();
+  const Eigen::VectorXd lower = maps.Lower(), upper = maps.Upper();
   Optimum best;
   Constraint constraint{&maps, &options, IndexOf(maps, MicroRatio::kParticleCompliance),
                         IndexOf(maps, MicroRatio::kParticlePoisson)};
@@ -163,6 +163,14 @@ std::string MicroRatioName(MicroRatio ratio) {
     case MicroRatio::kParticlePoisson: return "nu_p";
   }
   return "?";
+}
+
+Eigen::VectorXd MapSet::Lower() const {
+  return poisson_ratio.lower().cwiseMin(compressive_group.lower());
+}
+
+Eigen::VectorXd MapSet::Upper() const {
+  return poisson_ratio.upper().cwiseMax(compressive_group.upper());
 }
 
 MicroRatios MapSet::RatiosAt(const std::vector<double>& x) const {
@@ -242,10 +250,12 @@ InversionResult InvertMaps(const MapSet& maps, const PackingDescriptors& packing
     reach.sign = -1.0;
     const Optimum most = Minimise(maps, reach, options);
     char note[400];
+    const bool alone = -most.value >= target.StrengthRatio();
     std::snprintf(note, sizeof(note),
-                  "sigma_c / sigma_t = %.3f is not reachable: the largest ratio the maps give on this "
-                  "packing is %.3f; Rn was taken from the %s strength, the other is off by %s",
-                  target.StrengthRatio(), -most.value,
+                  "sigma_c / sigma_t = %.3f is not reachable%s: the largest ratio the maps give on this "
+                  "packing is %.3f%s; Rn was taken from the %s strength, the other is off by %s",
+                  target.StrengthRatio(), alone ? " together with nu" : "", -most.value,
+                  alone ? " (at another kt/kn)" : "",
                   result.honoured == HonouredStrength::kCompressive ? "compressive" : "tensile",
                   Percent(result.honoured == HonouredStrength::kCompressive ? result.error_tensile
                                                                             : result.error_ucs).c_str());

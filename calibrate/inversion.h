@@ -45,13 +45,18 @@ struct MapSet {
   ResponseSurface tensile_group;      // Psi_t
 
   MicroRatios RatiosAt(const std::vector<double>& x) const;
+  // The box of the sweep (the elastic surfaces may not span the strength-only ratios).
+  Eigen::VectorXd Lower() const;
+  Eigen::VectorXd Upper() const;
   std::vector<double> InputsOf(const MicroRatios& ratios) const;
 };
 
 enum class HonouredStrength { kCompressive, kTensile };
 
 struct InversionOptions {
-  double poisson_weight = 1.0;
+  // nu is matched first: an unreachable sigma_c / sigma_t is reported, and must not pull nu
+  // off its target (the weights of the squared relative errors).
+  double poisson_weight = 100.0;
   double strength_ratio_weight = 1.0;
   // Largest admissible kn/(Ep l) for a given nu_p (the DDEM convergence bound at the
   // required rho(B) margin); empty = no DDEM constraint (rigid maps).

@@ -57,6 +57,9 @@ ResponseSurface ResponseSurface::Fit(const Eigen::MatrixXd& points, const Eigen:
   if (points.rows() != values.size())
     throw InputError("response surface: " + std::to_string(points.rows()) + " points but " +
                      std::to_string(values.size()) + " values");
+  if (points.rows() == 0 || points.cols() == 0)
+    throw InputError("response surface: no points to fit (" + std::to_string(points.rows()) + " points, " +
+                     std::to_string(points.cols()) + " inputs)");
   ResponseSurface s;
   const int inputs = static_cast<int>(points.cols());
   s.lower_ = points.colwise().minCoeff().transpose();

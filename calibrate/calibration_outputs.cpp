@@ -1,0 +1,241 @@
+#include "calibrate/calibration_outputs.h"
+
+#include <cstdio>
+#include <ostream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "common/plot.h"
+#include "generator/packing_io.h"
+#include "solver/lab_outputs.h"
+#include "specimen_version.h"
+
+namespace specimen {
+namespace {
+
+std::string Exact(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
+  return buffer;
+}
+
+std::string FileName(const std::string& path) {
+  const size_t slash = path.rfind('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+// A run-test scene (solver/lab_scene_file.h) of one verification test.
+void WriteScene(std::ostream& out, const std::string& packing_file, const MaterialParameters& material,
+                const LabTestOptions& test, const char* kind, const std::string& name) {
+  out << "# Written by calibrate-to-material " << kVersion << ": the verification " << kind
+      << " test with the calibrated parameters.\n# Rerun: run-test " << name << "_scene.toml --output DIR\n\n";
+  out << "[specimen]\npacking = \"" << packing_file << "\"\nscale_density = " << (test.scale_density ? "true" : "false")
+      << "\n\n";
+  out << MaterialTomlTable(material) << "\n";
+  out << "[test]\nkind = \"" << kind << "\"\n";
+  out << "loading_rate_group = " << Exact(test.loading_rate_group) << "\n";
+  if (test.platen_speed_m_per_s > 0) out << "platen_speed = " << Exact(test.platen_speed_m_per_s) << "\n";
+  out << "post_peak_fraction = " << Exact(test.post_peak_stress_fraction) << "\n";
+  out << "modulus_window = [" << Exact(test.modulus_window_low) << ", " << Exact(test.modulus_window_high) << "]\n";
+  out << "local_damping = " << Exact(test.local_damping) << "\n";
+  out << "dashpot_ratio = " << Exact(test.dashpot_ratio) << "\n";
+  out << "pause_kinetic_energy_ratio = " << Exact(test.pause_kinetic_energy_ratio) << "\n";
+  out << "platen_stiffness_ratio = " << Exact(test.platen_stiffness_ratio) << "\n";
+  out << "platen_friction = " << Exact(test.platen_friction) << "\n\n";
+  out << "[output]\nname = \"" << name << "\"\n";
+}
+
+void WriteSweepCsv(const StoredMaps& maps, std::ostream& out) {
+  out << "index,kt_over_kn,rt_over_rn,friction,kn_over_ep_l,particle_poisson_ratio,ok,youngs_modulus_pa,"
+         "poisson_ratio,ucs_pa,tensile_strength_pa,strength_ratio,elastic_group,compressive_group,"
+         "tensile_group,seconds\n";
+  for (const SweepPoint& p : maps.points) {
+    const MicroRatios& r = p.ratios;
+    out << p.index << "," << r.tangential_to_normal_stiffness << "," << r.shear_to_tensile_strength << ","
+        << r.friction_coefficient << "," << r.normal_stiffness_to_particle << "," << r.particle_poisson_ratio << ","
+        << (p.ok ? 1 : 0) << "," << p.youngs_modulus_pa << "," << p.poisson_ratio << "," << p.ucs_pa << ","
+        << p.tensile_strength_pa << "," << (p.ok ? p.ucs_pa / p.tensile_strength_pa : 0.0) << ","
+        << p.elastic_group << "," << p.compressive_group << "," << p.tensile_group << "," << p.seconds << "\n";
+  }
+}
+
+// The surfaces along each axis through the chosen point: axis, value, nu, Psi_E, Psi_c,
+// Psi_t, Psi_c/Psi_t.
+void WriteCurvesCsv(const StoredMaps& stored, const MicroRatios& chosen, std::ostream& out) {
+  const MapSet& maps = stored.maps;
+  out << "axis,value,poisson_ratio,elastic_group,compressive_group,tensile_group,strength_ratio\n";
+  const std::vector<double> x0 = maps.InputsOf(chosen);
+  for (size_t k = 0; k < maps.inputs.size(); ++k) {
+    const double lo = maps.Lower()[k], hi = maps.Upper()[k];
+    for (int i = 0; i <= 60; ++i) {
+      Eigen::VectorXd x = Eigen::VectorXd::Map(x0.data(), static_cast<Eigen::Index>(x0.size()));
+      x[k] = lo + (hi - lo) * i / 60.0;
+      const double c = maps.compressive_group.Evaluate(x), t = maps.tensile_group.Evaluate(x);
+      out << k << "," << x[k] << "," << maps.poisson_ratio.Evaluate(x) << "," << maps.elastic_group.Evaluate(x)
+          << "," << c << "," << t << "," << (t != 0 ? c / t : 0.0) << "\n";
+    }
+  }
+}
+
+// Column of a ratio in the sweep CSV (1-based, gnuplot).
+int SweepColumn(MicroRatio ratio) {
+  switch (ratio) {
+    case MicroRatio::kStiffnessRatio: return 2;
+    case MicroRatio::kStrengthRatio: return 3;
+    case MicroRatio::kFriction: return 4;
+    case MicroRatio::kParticleCompliance: return 5;
+    case MicroRatio::kParticlePoisson: return 6;
+  }
+  return 2;
+}
+
+std::string MapsScript(const StoredMaps& stored, const MicroRatios& chosen, const InversionResult& inversion,
+                       const std::string& sweep_csv, const std::string& curves_csv) {
+  const MapSet& maps = stored.maps;
+  const int first = 0, last = static_cast<int>(maps.inputs.size()) - 1;
+  int stiffness_axis = first, strength_axis = last;
+  for (int k = 0; k <= last; ++k) {
+    if (maps.inputs[k] == MicroRatio::kStiffnessRatio) stiffness_axis = k;
+    if (maps.inputs[k] == MicroRatio::kStrengthRatio) strength_axis = k;
+  }
+  const std::vector<double> x0 = maps.InputsOf(chosen);
+  const Eigen::VectorXd x = Eigen::VectorXd::Map(x0.data(), static_cast<Eigen::Index>(x0.size()));
+  const double nu = maps.poisson_ratio.Evaluate(x), psi_e = maps.elastic_group.Evaluate(x);
+  const double psi_c = maps.compressive_group.Evaluate(x), psi_t = maps.tensile_group.Evaluate(x);
+  const std::string a = MicroRatioName(maps.inputs[stiffness_axis]);
+  const std::string b = MicroRatioName(maps.inputs[strength_axis]);
+  const int ca = SweepColumn(maps.inputs[stiffness_axis]), cb = SweepColumn(maps.inputs[strength_axis]);
+  std::ostringstream s;
+  s << "set datafile separator ','\nset key top right font ',9'\nset grid\n";
+  s << "set multiplot layout 2,2 title 'Micro-macro maps: sweep points, fitted surface through the chosen point (red)'\n";
+  auto panel = [&](const std::string& xlabel, const std::string& ylabel, int xcol, const std::string& ycol, int axis,
+                   const std::string& curve_col, double cx, double cy) {
+    s << "set xlabel '" << xlabel << "'\nset ylabel '" << ylabel << "'\n";
+    s << "plot " << GnuplotQuote(sweep_csv) << " every ::1 using " << xcol << ":(($7)>0 ? " << ycol
+      << " : 1/0) with points pt 7 ps 0.8 lc rgb '#4060a0' title 'sweep points', "
+      << GnuplotQuote(curves_csv) << " every ::1 using ($1==" << axis << " ? $2 : 1/0):" << curve_col
+      << " with lines lw 2 lc rgb '#202020' title 'fitted surface', "
+      << "'-' using 1:2 with points pt 9 ps 2.5 lc rgb '#d02020' title 'chosen'\n"
+      << Exact(cx) << " " << Exact(cy) << "\ne\n";
+  };
+  panel(a, "nu (2D: plane strain)", ca, "$9", stiffness_axis, "3", x[stiffness_axis], nu);
+  panel(a, "Psi_E = E r~ / (kn nc (1-e))", ca, "$13", stiffness_axis, "4", x[stiffness_axis], psi_e);
+  panel(b, "sigma_c / sigma_t", cb, "$12", strength_axis, "7", x[strength_axis], psi_c / psi_t);
+  panel(b, "Psi_c = sigma_c A~ / (Rn nc (1-e))", cb, "$14", strength_axis, "5", x[strength_axis], psi_c);
+  s << "unset multiplot\n";
+  (void)inversion;
+  return s.str();
+}
+
+void WriteVerificationCsv(const CalibrationSummary& summary, std::ostream& out) {
+  out << "round,kn,kt,rn,rt,friction,particle_youngs_modulus_pa,particle_poisson_ratio,youngs_modulus_pa,"
+         "poisson_ratio,ucs_pa,tensile_strength_pa,error_youngs,error_poisson,error_ucs,error_tensile,seconds\n";
+  for (const VerificationRound& v : summary.rounds) {
+    const MaterialParameters& m = v.material;
+    out << v.round << "," << Exact(m.normal_stiffness_n_per_m) << "," << Exact(m.tangential_stiffness_n_per_m) << ","
+        << Exact(m.bond_tensile_strength_n) << "," << Exact(m.bond_shear_strength_n) << ","
+        << Exact(m.friction_coefficient) << "," << (m.particle_youngs_modulus_pa ? *m.particle_youngs_modulus_pa : 0.0)
+        << "," << m.particle_poisson_ratio << "," << v.youngs_modulus_pa << "," << v.poisson_ratio << "," << v.ucs_pa
+        << "," << v.tensile_strength_pa << "," << v.error_youngs << "," << v.error_poisson << "," << v.error_ucs << ","
+        << v.error_tensile << "," << v.seconds << "\n";
+  }
+}
+
+}  // namespace
+
+void CheckCalibrationOutputLocation(const CalibrationOutputOptions& options) {
+  if (options.name.empty() || options.name.find('/') != std::string::npos)
+    throw InputError("output name '" + options.name + "' is not allowed: it must be a non-empty file name without '/'");
+  EnsureDirectory(options.directory, "output directory");
+  RequireWritableDirectory(options.directory, "output directory");
+}
+
+std::string MaterialTomlTable(const MaterialParameters& m) {
+  std::ostringstream out;
+  out << "[material]\n";
+  out << "normal_stiffness = " << Exact(m.normal_stiffness_n_per_m) << "        # kn [N/m]\n";
+  out << "tangential_stiffness = " << Exact(m.tangential_stiffness_n_per_m) << "    # kt [N/m]\n";
+  out << "bond_tensile_strength = " << Exact(m.bond_tensile_strength_n) << "   # Rn [N]\n";
+  out << "bond_shear_strength = " << Exact(m.bond_shear_strength_n) << "     # Rt [N]\n";
+  out << "friction_coefficient = " << Exact(m.friction_coefficient) << "\n";
+  out << "density = " << Exact(m.density_kg_per_m3) << "                   # [kg/m^3], before scaling\n";
+  if (m.particle_youngs_modulus_pa) {
+    out << "particle_youngs_modulus = " << Exact(*m.particle_youngs_modulus_pa) << "   # Ep [Pa] (DDEM)\n";
+    out << "particle_poisson_ratio = " << Exact(m.particle_poisson_ratio) << "\n";
+    out << "plane_model = \"" << (m.plane_model == PlaneModel::kPlaneStrain ? "plane_strain" : "plane_stress")
+        << "\"\n";
+  }
+  return out.str();
+}
+
+template <int Dim>
+CalibrationOutputsWritten WriteCalibrationOutputs(const CalibrationSummary& summary,
+                                                  const CalibrationSpecimens<Dim>& specimens,
+                                                  const CalibrationOptions& options,
+                                                  const CalibrationOutputOptions& output) {
+  CheckCalibrationOutputLocation(output);
+  CalibrationOutputsWritten written;
+  const std::string base = output.directory + "/" + output.name;
+  const std::string text_report = summary.FullReport();
+  const nlohmann::json json_report = summary.ToJson();
+
+  OutputGroup group;
+  group.Add(base + "_parameters.toml", [&](std::ostream& out) {
+    out << "# Calibrated by calibrate-to-material " << kVersion << " for '" << summary.target.name
+        << "'.\n# The [material] table of a run-test scene; " << output.name
+        << "_ucs_scene.toml holds a complete one.\n\n"
+        << MaterialTomlTable(summary.material);
+  });
+  group.Add(base + "_ucs.packing", [&](std::ostream& out) { WritePacking<Dim>(specimens.ucs, out); });
+  group.Add(base + "_bts.packing", [&](std::ostream& out) { WritePacking<Dim>(specimens.bts, out); });
+  group.Add(base + "_ucs_scene.toml", [&](std::ostream& out) {
+    WriteScene(out, FileName(base + "_ucs.packing"), summary.material, options.test, "ucs", output.name + "_ucs");
+  });
+  group.Add(base + "_bts_scene.toml", [&](std::ostream& out) {
+    WriteScene(out, FileName(base + "_bts.packing"), summary.material, options.test, "brazilian",
+               output.name + "_bts");
+  });
+  group.Add(base + "_report.json", [&](std::ostream& out) { out << json_report.dump(2) << "\n"; });
+  group.Add(base + "_report.txt", [&](std::ostream& out) { out << text_report; });
+  group.Add(base + "_sweep.csv", [&](std::ostream& out) { WriteSweepCsv(summary.maps, out); });
+  group.Add(base + "_map_curves.csv",
+            [&](std::ostream& out) { WriteCurvesCsv(summary.maps, summary.inversion.ratios, out); });
+  group.Add(base + "_verification.csv", [&](std::ostream& out) { WriteVerificationCsv(summary, out); });
+  for (const std::string& f : group.Commit()) written.files.push_back(f);
+
+  // The final verification tests, as run-test writes them.
+  for (int k = 0; k < 2; ++k) {
+    LabOutputOptions lab;
+    lab.directory = output.directory;
+    lab.name = output.name + (k == 0 ? "_verify_ucs" : "_verify_bts");
+    lab.pictures = output.pictures;
+    lab.snapshots = true;
+    const nlohmann::json report = {{"calibration", output.name + "_report.json"}};
+    const LabOutputsWritten w = k == 0 ? WriteLabOutputs<Dim>(summary.final_ucs, specimens.ucs, report, lab)
+                                       : WriteLabOutputs<Dim>(summary.final_bts, specimens.bts, report, lab);
+    written.files.insert(written.files.end(), w.files.begin(), w.files.end());
+    written.warnings.insert(written.warnings.end(), w.warnings.begin(), w.warnings.end());
+  }
+
+  if (output.pictures) {
+    std::string error;
+    const std::string script = MapsScript(summary.maps, summary.inversion.ratios, summary.inversion,
+                                          base + "_sweep.csv", base + "_map_curves.csv");
+    PlotOptions plot;
+    plot.width_px = 1200;
+    plot.height_px = 1000;
+    if (RenderGnuplot(script, base + "_maps.png", plot, &error)) written.files.push_back(base + "_maps.png");
+    else written.warnings.push_back("maps picture skipped: " + error);
+  }
+  return written;
+}
+
+template CalibrationOutputsWritten WriteCalibrationOutputs<2>(const CalibrationSummary&, const CalibrationSpecimens<2>&,
+                                                              const CalibrationOptions&, const CalibrationOutputOptions&);
+template CalibrationOutputsWritten WriteCalibrationOutputs<3>(const CalibrationSummary&, const CalibrationSpecimens<3>&,
+                                                              const CalibrationOptions&, const CalibrationOutputOptions&);
+
+}  // namespace specimen

@@ -1,0 +1,49 @@
+#pragma once
+// What calibrate-to-material writes (issue 6), in one place:
+//   <dir>/<name>_parameters.toml     the calibrated [material] table (run-test scene format)
+//   <dir>/<name>_ucs_scene.toml,     complete run-test scenes of the verification tests with
+//   <dir>/<name>_bts_scene.toml      the calibrated set, on the packings below: rerun them
+//   <dir>/<name>_ucs.packing, _bts.packing   the verification specimens
+//   <dir>/<name>_report.json, _report.txt    the summary (CalibrationSummary)
+//   <dir>/<name>_sweep.csv           the map's sweep points: ratios, measured values, groups
+//   <dir>/<name>_map_curves.csv      the fitted surfaces through the chosen point
+//   <dir>/<name>_maps.png            nu and Psi_E against kt/kn, sigma_c/sigma_t and Psi_c
+//                                    against the last axis, sweep points and chosen point
+//   <dir>/<name>_verification.csv    every verification round: parameters, achieved, errors
+//   <dir>/<name>_verify_ucs_*, _verify_bts_*  the final verification tests (lab_outputs.h:
+//                                    stress-strain CSV and picture, cracks, VTU)
+// Data files appear together (OutputGroup); pictures come last and a missing gnuplot only
+// costs them (a warning).
+
+#include <string>
+#include <vector>
+
+#include "calibrate/calibration.h"
+
+namespace specimen {
+
+struct CalibrationOutputOptions {
+  std::string directory = "out/calibration";
+  std::string name = "calibration";
+  bool pictures = true;
+};
+
+struct CalibrationOutputsWritten {
+  std::vector<std::string> files;
+  std::vector<std::string> warnings;
+};
+
+// Throws InputError for an empty name or one holding '/', FileError if the directory
+// cannot be created or written. Call before long work.
+void CheckCalibrationOutputLocation(const CalibrationOutputOptions& options);
+
+// The [material] table of a run-test scene for `material` (full precision).
+std::string MaterialTomlTable(const MaterialParameters& material);
+
+template <int Dim>
+CalibrationOutputsWritten WriteCalibrationOutputs(const CalibrationSummary& summary,
+                                                  const CalibrationSpecimens<Dim>& specimens,
+                                                  const CalibrationOptions& options,
+                                                  const CalibrationOutputOptions& output);
+
+}  // namespace specimen

@@ -1,0 +1,135 @@
+#include "calibrate/map_store.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+
+namespace specimen {
+namespace {
+
+constexpr const char* kFormat = "specimen-maps 1";
+
+// FNV-1a, 64 bit: a stable file-name key (not a security hash).
+std::string Hash(const std::string& text) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ULL;
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
+}  // namespace
+
+nlohmann::json StoredMaps::ToJson() const {
+  nlohmann::json j;
+  j["format"] = kFormat;
+  j["dimension"] = dimension;
+  j["model"] = deformable ? "deformable" : "rigid";
+  j["code_version"] = code_version;
+  j["created_utc"] = created_utc;
+  j["key"] = key;
+  j["specimen"] = specimen;
+  j["protocol"] = protocol;
+  j["descriptors"] = {{"ucs", DescriptorsToJson(ucs_descriptors)}, {"bts", DescriptorsToJson(bts_descriptors)}};
+  j["design"] = design.ToJson();
+  j["max_total_degree"] = max_total_degree;
+  j["sweep_seconds"] = sweep_seconds;
+  j["points"] = nlohmann::json::array();
+  for (const SweepPoint& p : points) j["points"].push_back(p.ToJson());
+  j["surfaces"] = {{"poisson_ratio", maps.poisson_ratio.ToJson()},
+                   {"elastic_group", maps.elastic_group.ToJson()},
+                   {"compressive_group", maps.compressive_group.ToJson()},
+                   {"tensile_group", maps.tensile_group.ToJson()}};
+  return j;
+}
+
+StoredMaps StoredMaps::FromJson(const nlohmann::json& j) {
+  if (!j.is_object() || j.value("format", std::string()) != kFormat)
+    throw InputError(std::string("not a map file (expected \"format\": \"") + kFormat + "\")");
+  StoredMaps s;
+  try {
+    s.dimension = j.at("dimension").get<int>();
+    s.deformable = j.at("model").get<std::string>() == "deformable";
+    s.code_version = j.at("code_version").get<std::string>();
+    s.created_utc = j.at("created_utc").get<std::string>();
+    s.key = j.at("key").get<std::string>();
+    s.specimen = j.at("specimen");
+    s.protocol = j.at("protocol");
+    s.ucs_descriptors = DescriptorsFromJson(j.at("descriptors").at("ucs"));
+    s.bts_descriptors = DescriptorsFromJson(j.at("descriptors").at("bts"));
+    s.design = SweepDesign::FromJson(j.at("design"));
+    s.max_total_degree = j.at("max_total_degree").get<int>();
+    s.sweep_seconds = j.value("sweep_seconds", 0.0);
+    for (const auto& p : j.at("points")) s.points.push_back(SweepPoint::FromJson(p));
+    const auto& surfaces = j.at("surfaces");
+    s.maps.inputs = s.design.Inputs();
+    s.maps.fixed = s.design.fixed;
+    s.maps.poisson_ratio = ResponseSurface::FromJson(surfaces.at("poisson_ratio"));
+    s.maps.elastic_group = ResponseSurface::FromJson(surfaces.at("elastic_group"));
+    s.maps.compressive_group = ResponseSurface::FromJson(surfaces.at("compressive_group"));
+    s.maps.tensile_group = ResponseSurface::FromJson(surfaces.at("tensile_group"));
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(std::string("malformed map file: ") + e.what());
+  }
+  if (s.dimension != 2 && s.dimension != 3)
+    throw InputError("map file: dimension = " + std::to_string(s.dimension) + ", allowed 2 or 3");
+  if (s.maps.poisson_ratio.inputs() != static_cast<int>(s.maps.inputs.size()))
+    throw InputError("map file: the surfaces do not match the design's inputs");
+  return s;
+}
+
+std::string MapKey(int dimension, bool deformable, const SweepDesign& design, const nlohmann::json& protocol,
+                   const nlohmann::json& specimen, int max_total_degree) {
+  nlohmann::json identity = {{"format", kFormat},       {"dimension", dimension},
+                             {"deformable", deformable}, {"design", design.ToJson()},
+                             {"protocol", protocol},     {"specimen", specimen},
+                             {"degree", max_total_degree}};
+  return Hash(identity.dump());
+}
+
+std::string MapFileName(int dimension, bool deformable, const std::string& key) {
+  return "maps_" + std::to_string(dimension) + "d_" + (deformable ? "ddem" : "dem") + "_" + key + ".json";
+}
+
+void SaveStoredMaps(const StoredMaps& maps, const std::string& path) {
+  const std::string text = maps.ToJson().dump(1);
+  WriteFileAtomically(path, [&](std::ostream& out) { out << text << "\n"; });
+}
+
+StoredMaps LoadStoredMaps(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw FileError("cannot read the map file " + path);
+  nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) throw InputError("the map file " + path + " is not valid JSON (truncated or not a map)");
+  try {
+    return StoredMaps::FromJson(j);
+  } catch (const InputError& e) {
+    throw InputError(path + ": " + e.what());
+  }
+}
+
+bool MapsMatchPacking(const PackingDescriptors& built_on, const PackingDescriptors& packing, std::string* why) {
+  std::ostringstream out;
+  if (built_on.dimension != packing.dimension)
+    out << "the maps are " << built_on.dimension << "D, the packing " << packing.dimension << "D";
+  else if (std::abs(built_on.porosity - packing.porosity) > 0.015)
+    out << "porosity " << packing.porosity << " differs from the maps' " << built_on.porosity
+        << " by more than 0.015";
+  else if (std::abs(built_on.coordination / packing.coordination - 1.0) > 0.05)
+    out << "coordination number " << packing.coordination << " differs from the maps' "
+        << built_on.coordination << " by more than 5 %";
+  else if (std::abs(built_on.radius_ratio / packing.radius_ratio - 1.0) > 0.25)
+    out << "radius ratio " << packing.radius_ratio << " differs from the maps' " << built_on.radius_ratio
+        << " by more than 25 %";
+  if (why) *why = out.str();
+  return out.str().empty();
+}
+
+}  // namespace specimen

@@ -1,0 +1,59 @@
+#pragma once
+// Stored micro-macro maps (issue 6): the sweep points, the fitted surfaces with their fit
+// errors, the descriptors of the packings they were built on and the code version, as one
+// JSON file under data/maps/. A later calibration on a statistically equivalent packing
+// with the same protocol reuses them instead of sweeping again.
+//
+// File name: maps_<dimension>d_<model>_<key>.json, the key a hash of everything the maps
+// depend on (design, protocol, sweep specimens). A map is refused for a packing whose
+// porosity, coordination or radius ratio differ (MapsMatchPacking): groups normalise by nc
+// and (1 - e), but the shape of the maps still depends on the packing's structure.
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "calibrate/dimensionless_groups.h"
+#include "calibrate/inversion.h"
+#include "calibrate/map_sweep.h"
+
+namespace specimen {
+
+struct StoredMaps {
+  int dimension = 2;
+  bool deformable = false;
+  std::string code_version;   // of the program that built them
+  std::string created_utc;    // ISO 8601
+  std::string key;            // identity of design + protocol + sweep specimens
+  nlohmann::json specimen;    // how the sweep specimens were made (free form, for the report)
+  nlohmann::json protocol;    // the test protocol (rate, window, damping)
+  PackingDescriptors ucs_descriptors;
+  PackingDescriptors bts_descriptors;
+  SweepDesign design;
+  int max_total_degree = 2;
+  std::vector<SweepPoint> points;
+  MapSet maps;                // fitted from the points
+  double sweep_seconds = 0.0; // wall time the sweep took when it was built
+
+  nlohmann::json ToJson() const;
+  // Throws InputError naming what is missing or malformed.
+  static StoredMaps FromJson(const nlohmann::json& j);
+};
+
+// The key of a map: a hex hash of the canonical JSON of its identity.
+std::string MapKey(int dimension, bool deformable, const SweepDesign& design,
+                   const nlohmann::json& protocol, const nlohmann::json& specimen, int max_total_degree);
+std::string MapFileName(int dimension, bool deformable, const std::string& key);
+
+// Atomic write (FileError if the directory cannot be written).
+void SaveStoredMaps(const StoredMaps& maps, const std::string& path);
+// FileError if unreadable, InputError if not a map file (names the file and the problem).
+StoredMaps LoadStoredMaps(const std::string& path);
+
+// Whether maps built on `built_on` may be used for a packing described by `packing`:
+// same dimension, porosity within 0.015 (absolute), coordination within 5 %, radius ratio
+// within 25 %. Fills `why` with the first difference, naming both values.
+bool MapsMatchPacking(const PackingDescriptors& built_on, const PackingDescriptors& packing, std::string* why);
+
+}  // namespace specimen

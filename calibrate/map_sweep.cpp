@@ -1,0 +1,433 @@
+#include "calibrate/map_sweep.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+#include "generator/metrics.h"
+
+namespace specimen {
+namespace {
+
+MicroRatio RatioFromName(const std::string& name) {
+  for (MicroRatio r : {MicroRatio::kStiffnessRatio, MicroRatio::kStrengthRatio, MicroRatio::kFriction,
+                       MicroRatio::kParticleCompliance, MicroRatio::kParticlePoisson})
+    if (MicroRatioName(r) == name) return r;
+  throw InputError("unknown micro ratio '" + name + "' in a sweep design");
+}
+
+void SetRatio(MicroRatios* r, MicroRatio ratio, double value) {
+  switch (ratio) {
+    case MicroRatio::kStiffnessRatio: r->tangential_to_normal_stiffness = value; break;
+    case MicroRatio::kStrengthRatio: r->shear_to_tensile_strength = value; break;
+    case MicroRatio::kFriction: r->friction_coefficient = value; break;
+    case MicroRatio::kParticleCompliance: r->normal_stiffness_to_particle = value; break;
+    case MicroRatio::kParticlePoisson: r->particle_poisson_ratio = value; break;
+  }
+}
+
+nlohmann::json RatiosToJson(const MicroRatios& r) {
+  return {{"kt_over_kn", r.tangential_to_normal_stiffness},
+          {"rt_over_rn", r.shear_to_tensile_strength},
+          {"friction", r.friction_coefficient},
+          {"kn_over_ep_l", r.normal_stiffness_to_particle},
+          {"particle_poisson_ratio", r.particle_poisson_ratio}};
+}
+
+MicroRatios RatiosFromJson(const nlohmann::json& j) {
+  MicroRatios r;
+  r.tangential_to_normal_stiffness = j.at("kt_over_kn").get<double>();
+  r.shear_to_tensile_strength = j.at("rt_over_rn").get<double>();
+  r.friction_coefficient = j.at("friction").get<double>();
+  r.normal_stiffness_to_particle = j.at("kn_over_ep_l").get<double>();
+  r.particle_poisson_ratio = j.at("particle_poisson_ratio").get<double>();
+  return r;
+}
+
+// The design's identity in the journal: a point is reused only by the same design.
+std::string DesignKey(const SweepDesign& design, const MapSweepOptions& options) {
+  nlohmann::json key = design.ToJson();
+  key["kn"] = options.normal_stiffness_n_per_m;
+  key["rn"] = options.bond_tensile_strength_n;
+  key["rho"] = options.density_kg_per_m3;
+  key["rate"] = options.test.loading_rate_group;
+  key["window"] = {options.test.modulus_window_low, options.test.modulus_window_high};
+  return key.dump();
+}
+
+// Appends one line and makes it durable before returning (a kill loses nothing written).
+void AppendJournalLine(const std::string& path, const std::string& line) {
+  FILE* file = std::fopen(path.c_str(), "a");
+  if (!file) throw FileError("cannot append to the sweep journal " + path);
+  const bool ok = std::fputs((line + "\n").c_str(), file) >= 0 && std::fflush(file) == 0 &&
+                  ::fsync(fileno(file)) == 0;
+  std::fclose(file);
+  if (!ok) throw FileError("cannot write the sweep journal " + path);
+}
+
+// Finished points of the same design; a torn last line (killed mid-write) is ignored.
+std::vector<SweepPoint> ReadJournal(const std::string& path, const std::string& key) {
+  std::vector<SweepPoint> points;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    nlohmann::json j = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
+    if (j.is_discarded() || !j.is_object() || j.value("design", std::string()) != key) continue;
+    try {
+      points.push_back(SweepPoint::FromJson(j.at("point")));
+    } catch (const std::exception&) {
+      continue;  // an incomplete record: run the point again
+    }
+  }
+  return points;
+}
+
+// Strain limit of the sweep's strength tests: soft, compliant corners of a design peak late.
+constexpr double kSweepStrainLimit = 0.05;
+
+template <int Dim>
+PackingDescriptors Describe(const Packing<Dim>& packing) {
+  return DescribePacking<Dim>(ComputePackingMetrics<Dim>(packing));
+}
+
+}  // namespace
+
+std::vector<MicroRatios> SweepDesign::Points() const {
+  std::vector<MicroRatios> points(1, fixed);
+  for (const SweepAxis& axis : axes) {
+    std::vector<MicroRatios> next;
+    for (const MicroRatios& base : points)
+      for (int level = 0; level < axis.levels; ++level) {
+        MicroRatios r = base;
+        SetRatio(&r, axis.ratio, axis.lower + (axis.upper - axis.lower) * level / (axis.levels - 1));
+        next.push_back(r);
+      }
+    points = std::move(next);
+  }
+  return points;
+}
+
+std::vector<MicroRatio> SweepDesign::Inputs() const {
+  std::vector<MicroRatio> inputs;
+  for (const SweepAxis& axis : axes) inputs.push_back(axis.ratio);
+  return inputs;
+}
+
+bool SweepDesign::IsValid(std::string* error) const {
+  std::ostringstream out;
+  std::set<MicroRatio> seen;
+  if (axes.empty()) out << "sweep design: no axis (at least one micro ratio must vary)";
+  for (const SweepAxis& a : axes) {
+    if (!out.str().empty()) break;
+    const std::string name = MicroRatioName(a.ratio);
+    if (!seen.insert(a.ratio).second) out << "sweep design: axis " << name << " appears twice";
+    else if (a.levels < 2 || a.levels > 20)
+      out << "sweep design: levels of " << name << " = " << a.levels << ", allowed 2 to 20";
+    else if (!(a.lower < a.upper))
+      out << "sweep design: range of " << name << " [" << a.lower << ", " << a.upper
+          << "] is empty, lower must be below upper";
+    else if (a.ratio == MicroRatio::kStiffnessRatio && !(a.lower >= 0.0))
+      out << "sweep design: kt/kn lower = " << a.lower << ", allowed >= 0";
+    else if (a.ratio == MicroRatio::kStrengthRatio && !(a.lower > 0.0))
+      out << "sweep design: Rt/Rn lower = " << a.lower << ", allowed > 0";
+    else if (a.ratio == MicroRatio::kFriction && !(a.lower >= 0.0))
+      out << "sweep design: mu lower = " << a.lower << ", allowed >= 0";
+    else if (a.ratio == MicroRatio::kParticleCompliance && !(a.lower >= 0.0))
+      out << "sweep design: kn/(Ep l) lower = " << a.lower << ", allowed >= 0";
+    else if (a.ratio == MicroRatio::kParticlePoisson && !(a.lower > -1.0 && a.upper < 0.5))
+      out << "sweep design: nu_p range [" << a.lower << ", " << a.upper << "], allowed (-1, 0.5)";
+  }
+  if (out.str().empty() && Points().size() > 400)
+    out << "sweep design: " << Points().size() << " points, allowed at most 400";
+  if (error) *error = out.str();
+  return out.str().empty();
+}
+
+nlohmann::json SweepDesign::ToJson() const {
+  nlohmann::json j;
+  j["axes"] = nlohmann::json::array();
+  for (const SweepAxis& a : axes)
+    j["axes"].push_back({{"ratio", MicroRatioName(a.ratio)}, {"lower", a.lower}, {"upper", a.upper},
+                         {"levels", a.levels}});
+  j["fixed"] = RatiosToJson(fixed);
+  return j;
+}
+
+SweepDesign SweepDesign::FromJson(const nlohmann::json& j) {
+  SweepDesign d;
+  for (const auto& a : j.at("axes"))
+    d.axes.push_back({RatioFromName(a.at("ratio").get<std::string>()), a.at("lower").get<double>(),
+                      a.at("upper").get<double>(), a.at("levels").get<int>()});
+  d.fixed = RatiosFromJson(j.at("fixed"));
+  return d;
+}
+
+SweepDesign DefaultSweepDesign(bool deformable, double particle_poisson_ratio,
+                               double largest_particle_compliance, double friction_coefficient) {
+  SweepDesign d;
+  d.fixed.friction_coefficient = friction_coefficient;
+  d.fixed.shear_to_tensile_strength = 10.0;
+  d.fixed.tangential_to_normal_stiffness = 0.25;
+  if (!deformable) {
+    d.axes = {{MicroRatio::kStiffnessRatio, 0.15, 0.9, 4}, {MicroRatio::kStrengthRatio, 2.0, 10.0, 3}};
+    return d;
+  }
+  d.fixed.particle_poisson_ratio = particle_poisson_ratio;
+  d.axes = {{MicroRatio::kStiffnessRatio, 0.15, 0.6, 3},
+            {MicroRatio::kParticleCompliance, 0.0, largest_particle_compliance, 3},
+            {MicroRatio::kStrengthRatio, 2.0, 10.0, 3}};
+  return d;
+}
+
+nlohmann::json SweepPoint::ToJson() const {
+  return {{"index", index},
+          {"ratios", RatiosToJson(ratios)},
+          {"ok", ok},
+          {"failure", failure},
+          {"youngs_modulus_pa", youngs_modulus_pa},
+          {"poisson_ratio", poisson_ratio},
+          {"ucs_pa", ucs_pa},
+          {"tensile_strength_pa", tensile_strength_pa},
+          {"ucs_peak_reached", ucs_peak_reached},
+          {"bts_peak_reached", bts_peak_reached},
+          {"elastic_group", elastic_group},
+          {"compressive_group", compressive_group},
+          {"tensile_group", tensile_group},
+          {"seconds", seconds}};
+}
+
+SweepPoint SweepPoint::FromJson(const nlohmann::json& j) {
+  SweepPoint p;
+  p.index = j.at("index").get<int>();
+  p.ratios = RatiosFromJson(j.at("ratios"));
+  p.ok = j.at("ok").get<bool>();
+  p.failure = j.at("failure").get<std::string>();
+  p.youngs_modulus_pa = j.at("youngs_modulus_pa").get<double>();
+  p.poisson_ratio = j.at("poisson_ratio").get<double>();
+  p.ucs_pa = j.at("ucs_pa").get<double>();
+  p.tensile_strength_pa = j.at("tensile_strength_pa").get<double>();
+  p.ucs_peak_reached = j.at("ucs_peak_reached").get<bool>();
+  p.bts_peak_reached = j.at("bts_peak_reached").get<bool>();
+  p.elastic_group = j.at("elastic_group").get<double>();
+  p.compressive_group = j.at("compressive_group").get<double>();
+  p.tensile_group = j.at("tensile_group").get<double>();
+  p.seconds = j.at("seconds").get<double>();
+  return p;
+}
+
+bool MapSweepOptions::IsValid(std::string* error) const {
+  std::ostringstream out;
+  if (!(normal_stiffness_n_per_m > 0.0 && std::isfinite(normal_stiffness_n_per_m)))
+    out << "sweep normal_stiffness = " << normal_stiffness_n_per_m << ", allowed > 0";
+  else if (!(bond_tensile_strength_n > 0.0 && std::isfinite(bond_tensile_strength_n)))
+    out << "sweep bond_tensile_strength = " << bond_tensile_strength_n << ", allowed > 0";
+  else if (!(density_kg_per_m3 > 0.0 && std::isfinite(density_kg_per_m3)))
+    out << "sweep density = " << density_kg_per_m3 << ", allowed > 0";
+  else if (workers < 1 || workers > 256)
+    out << "sweep workers = " << workers << ", allowed 1 to 256";
+  std::string test_error;
+  if (out.str().empty() && !test.IsValid(&test_error)) out << test_error;
+  if (error) *error = out.str();
+  return out.str().empty();
+}
+
+MaterialParameters MaterialAt(const MicroRatios& r, double kn, double rn, double density,
+                              PlaneModel plane_model, double group_length_m) {
+  MaterialParameters m;
+  m.normal_stiffness_n_per_m = kn;
+  m.tangential_stiffness_n_per_m = r.tangential_to_normal_stiffness * kn;
+  m.bond_tensile_strength_n = rn;
+  m.bond_shear_strength_n = r.shear_to_tensile_strength * rn;
+  m.friction_coefficient = r.friction_coefficient;
+  m.density_kg_per_m3 = density;
+  m.plane_model = plane_model;
+  if (r.normal_stiffness_to_particle > 0.0) {
+    m.particle_youngs_modulus_pa = kn / (r.normal_stiffness_to_particle * group_length_m);
+    m.particle_poisson_ratio = r.particle_poisson_ratio;
+  }
+  return m;
+}
+
+template <int Dim>
+MapSweep RunMapSweep(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts_packing,
+                     const SweepDesign& design, const MapSweepOptions& options) {
+  std::string error;
+  if (!design.IsValid(&error)) throw InputError(error);
+  if (!options.IsValid(&error)) throw InputError(error);
+  const auto start = std::chrono::steady_clock::now();
+
+  MapSweep sweep;
+  sweep.ucs_descriptors = Describe(ucs_packing);
+  sweep.bts_descriptors = Describe(bts_packing);
+  const double group_length = Dim == 2 ? 1.0 : sweep.ucs_descriptors.mean_radius;
+  const std::vector<MicroRatios> grid = design.Points();
+  sweep.points.resize(grid.size());
+  std::vector<bool> done(grid.size(), false);
+
+  const std::string key = DesignKey(design, options);
+  if (!options.journal_path.empty()) {
+    for (const SweepPoint& p : ReadJournal(options.journal_path, key))
+      if (p.index >= 0 && p.index < static_cast<int>(grid.size()) && !done[p.index]) {
+        sweep.points[p.index] = p;
+        done[p.index] = true;
+        ++sweep.resumed_points;
+      }
+    // Fail now rather than after the first point if the journal cannot be written.
+    std::ofstream probe(options.journal_path, std::ios::app);
+    if (!probe) throw FileError("cannot write the sweep journal " + options.journal_path);
+  }
+
+  std::vector<int> pending;
+  for (int i = 0; i < static_cast<int>(grid.size()); ++i)
+    if (!done[i]) pending.push_back(i);
+
+  std::atomic<int> next{0};
+  std::atomic<int> finished{sweep.resumed_points};
+  std::mutex mutex;  // journal, progress and the first fatal error
+  std::string fatal;
+  const int total = static_cast<int>(grid.size());
+  if (options.progress && !pending.empty())
+    options.progress(static_cast<double>(finished) / total, "map sweep: " + std::to_string(pending.size()) +
+                                                                " points to run");
+
+  auto run_point = [&](int index) {
+    SweepPoint p;
+    p.index = index;
+    p.ratios = grid[index];
+    const auto point_start = std::chrono::steady_clock::now();
+    const MaterialParameters material =
+        MaterialAt(p.ratios, options.normal_stiffness_n_per_m, options.bond_tensile_strength_n,
+                   options.density_kg_per_m3, options.plane_model, group_length);
+    try {
+      LabTestOptions test = options.test;
+      test.num_threads = 1;
+      test.progress = nullptr;
+      test.check_quasi_static = false;
+      test.record_snapshots = false;
+      if (test.strain_limit == 0.0) test.strain_limit = kSweepStrainLimit;
+      test.kind = LabTestKind::kUniaxialCompression;
+      const LabTestResult ucs = RunLabTest<Dim>(ucs_packing, material, test);
+      test.kind = LabTestKind::kBrazilian;
+      const LabTestResult bts = RunLabTest<Dim>(bts_packing, material, test);
+      p.ucs_peak_reached = ucs.peak_reached;
+      p.bts_peak_reached = bts.peak_reached;
+      if (!ucs.elastic.measured) throw ComputationError("the UCS test measured no elastic window");
+      if (!ucs.peak_reached || !bts.peak_reached)
+        throw ComputationError(std::string("the ") + (!ucs.peak_reached ? "UCS" : "Brazilian") +
+                               " test reached its strain limit without a peak");
+      p.youngs_modulus_pa = ucs.elastic.youngs_modulus_pa;
+      p.poisson_ratio = ucs.elastic.poisson_ratio;
+      p.ucs_pa = ucs.peak_stress_pa;
+      p.tensile_strength_pa = bts.tensile_strength_pa;
+      p.elastic_group = ElasticGroup(sweep.ucs_descriptors, p.youngs_modulus_pa, material.normal_stiffness_n_per_m);
+      p.compressive_group = StrengthGroup(sweep.ucs_descriptors, p.ucs_pa, material.bond_tensile_strength_n);
+      p.tensile_group = StrengthGroup(sweep.bts_descriptors, p.tensile_strength_pa, material.bond_tensile_strength_n);
+      p.ok = true;
+    } catch (const ComputationError& e) {
+      p.ok = false;
+      p.failure = e.what();
+    }
+    p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - point_start).count();
+    std::lock_guard<std::mutex> lock(mutex);
+    sweep.points[index] = p;
+    if (!options.journal_path.empty()) {
+      nlohmann::json line = {{"design", key}, {"point", p.ToJson()}};
+      AppendJournalLine(options.journal_path, line.dump());
+    }
+    const int count = ++finished;
+    if (options.progress) {
+      char message[160];
+      std::snprintf(message, sizeof(message), "map sweep: point %d of %d (kt/kn %.3g, Rt/Rn %.3g%s) %s",
+                    count, total, p.ratios.tangential_to_normal_stiffness, p.ratios.shear_to_tensile_strength,
+                    p.ratios.normal_stiffness_to_particle > 0
+                        ? (", kn/(Ep l) " + std::to_string(p.ratios.normal_stiffness_to_particle)).c_str()
+                        : "",
+                    p.ok ? "done" : "failed");
+      options.progress(static_cast<double>(count) / total, message);
+    }
+  };
+
+  auto worker = [&]() {
+    for (;;) {
+      const int k = next++;
+      if (k >= static_cast<int>(pending.size())) return;
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!fatal.empty()) return;
+      }
+      try {
+        run_point(pending[k]);
+      } catch (const std::exception& e) {  // input or file errors stop the sweep
+        std::lock_guard<std::mutex> lock(mutex);
+        if (fatal.empty()) fatal = e.what();
+        return;
+      }
+    }
+  };
+  const int workers = std::min<int>(options.workers, static_cast<int>(pending.size()));
+  std::vector<std::thread> threads;
+  for (int w = 1; w < workers; ++w) threads.emplace_back(worker);
+  if (workers >= 1) worker();
+  for (auto& t : threads) t.join();
+  if (!fatal.empty()) throw InputError("map sweep stopped: " + fatal);
+
+  for (const SweepPoint& p : sweep.points) sweep.failed_points += p.ok ? 0 : 1;
+  sweep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return sweep;
+}
+
+MapSet FitMaps(const MapSweep& sweep, const SweepDesign& design, int max_total_degree) {
+  const std::vector<MicroRatio> inputs = design.Inputs();
+  MapSet maps;
+  maps.inputs = inputs;
+  maps.fixed = design.fixed;
+  std::vector<const SweepPoint*> ok;
+  for (const SweepPoint& p : sweep.points)
+    if (p.ok) ok.push_back(&p);
+  Eigen::MatrixXd x(ok.size(), inputs.size());
+  Eigen::VectorXd nu(ok.size()), psi_e(ok.size()), psi_c(ok.size()), psi_t(ok.size());
+  for (size_t i = 0; i < ok.size(); ++i) {
+    const std::vector<double> row = maps.InputsOf(ok[i]->ratios);
+    for (size_t k = 0; k < row.size(); ++k) x(i, k) = row[k];
+    nu[i] = ok[i]->poisson_ratio;
+    psi_e[i] = ok[i]->elastic_group;
+    psi_c[i] = ok[i]->compressive_group;
+    psi_t[i] = ok[i]->tensile_group;
+  }
+  // E and nu are elastic: Rt/Rn and mu act only once bonds break, so the elastic surfaces
+  // do not vary with them (a constant column carries no powers, response_surface.h). Fewer
+  // terms, and no spurious cross terms where failed sweep points leave holes.
+  Eigen::MatrixXd x_elastic = x;
+  for (size_t k = 0; k < inputs.size(); ++k)
+    if (inputs[k] == MicroRatio::kStrengthRatio || inputs[k] == MicroRatio::kFriction)
+      x_elastic.col(k).setConstant(x.rows() > 0 ? x(0, k) : 0.0);
+  ResponseSurfaceOptions fit;
+  fit.max_total_degree = max_total_degree;
+  try {
+    maps.poisson_ratio = ResponseSurface::Fit(x_elastic, nu, fit);
+    maps.elastic_group = ResponseSurface::Fit(x_elastic, psi_e, fit);
+    maps.compressive_group = ResponseSurface::Fit(x, psi_c, fit);
+    maps.tensile_group = ResponseSurface::Fit(x, psi_t, fit);
+  } catch (const InputError& e) {
+    throw InputError("cannot fit the maps: " + std::to_string(ok.size()) + " of " +
+                     std::to_string(sweep.points.size()) + " sweep points succeeded (" + e.what() +
+                     "); lower the surface degree or widen the sweep");
+  }
+  return maps;
+}
+
+template MapSweep RunMapSweep<2>(const Packing<2>&, const Packing<2>&, const SweepDesign&, const MapSweepOptions&);
+template MapSweep RunMapSweep<3>(const Packing<3>&, const Packing<3>&, const SweepDesign&, const MapSweepOptions&);
+
+}  // namespace specimen

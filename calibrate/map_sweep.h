@@ -1,0 +1,132 @@
+#pragma once
+// The sweep that builds the micro-macro maps (issue 6): the virtual UCS and Brazilian tests
+// (solver/lab_test.h) at every point of a grid of micro ratios, on a packing pair (a UCS
+// specimen and a BTS disc), reduced to the dimensionless groups of dimensionless_groups.h.
+//
+//   SweepDesign design = DefaultSweepDesign(/*deformable=*/false);
+//   MapSweepOptions options;             // reference kn, Rn, density; test protocol; workers
+//   options.journal_path = "sweep.jsonl";  // a killed sweep resumes from here
+//   MapSweep sweep = RunMapSweep<2>(ucs_packing, bts_packing, design, options);
+//   MapSet maps = FitMaps(sweep, design, 2);
+//
+// Only the ratios matter: with global contact constants E ~ kn and strengths ~ Rn at fixed
+// ratios (Labra 4.49-4.57, Madan 4.9-4.10), so the sweep runs at one reference kn and Rn
+// (chosen near the target so the time step and rate are realistic) and stores groups.
+// Points run in parallel, one solver thread each; each finished point is appended to the
+// journal (one JSON line, flushed and synced) before the next starts, so a sweep killed at
+// any moment loses at most the points in flight.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "calibrate/dimensionless_groups.h"
+#include "calibrate/inversion.h"
+#include "common/progress.h"
+#include "generator/packing.h"
+#include "solver/lab_test.h"
+
+namespace specimen {
+
+// One varying micro ratio: `levels` equally spaced values in [lower, upper].
+struct SweepAxis {
+  MicroRatio ratio = MicroRatio::kStiffnessRatio;
+  double lower = 0.0;
+  double upper = 0.0;
+  int levels = 3;  // >= 2
+};
+
+// A full factorial grid over the axes; the ratios without an axis take `fixed`.
+struct SweepDesign {
+  std::vector<SweepAxis> axes;
+  MicroRatios fixed;
+
+  // The grid points, the first axis varying slowest.
+  std::vector<MicroRatios> Points() const;
+  std::vector<MicroRatio> Inputs() const;
+  // Names the first invalid field, its value and the allowed range.
+  bool IsValid(std::string* error) const;
+  nlohmann::json ToJson() const;
+  static SweepDesign FromJson(const nlohmann::json& j);
+};
+
+// Rigid particles: kt/kn in [0.15, 0.9] (4 levels; nu falls from near the DEM limit to about
+// 0.03 in plane strain; below about 0.1 small specimens lose lateral stiffness and buckle) x Rt/Rn in [2, 10] (3 levels; sigma_c / sigma_t grows with it towards the
+// contact law's largest ratio, Labra section 4.3.4), mu fixed. Deformable particles add
+// kn/(Ep l) in [0, largest_particle_compliance] (3 levels) at the fixed nu_p: a nu_p above
+// 0.25 shifts nu above the DEM curve (Madan note 4.5, finding 3), kt/kn then in [0.15, 0.6]
+// (3 levels) where the high nu lies.
+SweepDesign DefaultSweepDesign(bool deformable, double particle_poisson_ratio = 0.45,
+                               double largest_particle_compliance = 0.0,
+                               double friction_coefficient = 0.8);
+
+// The measured results of one sweep point.
+struct SweepPoint {
+  int index = -1;  // in SweepDesign::Points()
+  MicroRatios ratios;
+  bool ok = false;
+  std::string failure;  // why the point failed (ok = false)
+  // Measured (2D: plane-strain E and nu, design.md).
+  double youngs_modulus_pa = 0.0;
+  double poisson_ratio = 0.0;
+  double ucs_pa = 0.0;
+  double tensile_strength_pa = 0.0;
+  bool ucs_peak_reached = false;
+  bool bts_peak_reached = false;
+  // The groups (dimensionless_groups.h) with each test's own packing descriptors.
+  double elastic_group = 0.0;
+  double compressive_group = 0.0;
+  double tensile_group = 0.0;
+  double seconds = 0.0;  // wall time of the two tests
+
+  nlohmann::json ToJson() const;
+  static SweepPoint FromJson(const nlohmann::json& j);
+};
+
+struct MapSweepOptions {
+  // Reference contact constants of the sweep (any positive values: the groups are
+  // independent of them; near the target they keep the step and rate realistic).
+  double normal_stiffness_n_per_m = 0.0;   // kn, > 0
+  double bond_tensile_strength_n = 0.0;    // Rn, > 0
+  double density_kg_per_m3 = 0.0;          // rho, > 0 (scaled per test when asked)
+  PlaneModel plane_model = PlaneModel::kPlaneStrain;
+  // The protocol of both tests (kind and progress are set per test).
+  LabTestOptions test;
+  // Points run at once (one solver thread each), >= 1.
+  int workers = 2;
+  // Journal of finished points (JSON lines); empty: none. Points already in it (same
+  // design) are not run again.
+  std::string journal_path;
+  ProgressCallback progress;  // may be empty
+
+  bool IsValid(std::string* error) const;
+};
+
+struct MapSweep {
+  std::vector<SweepPoint> points;  // in design order
+  PackingDescriptors ucs_descriptors;
+  PackingDescriptors bts_descriptors;
+  int resumed_points = 0;  // taken from the journal
+  int failed_points = 0;
+  double seconds = 0.0;    // wall time of this call
+};
+
+// The material of one test at one point: kn, kt = (kt/kn) kn, Rn, Rt = (Rt/Rn) Rn, mu, rho,
+// Ep = kn / ((kn/(Ep l)) l) when deformable (l = 1 m in 2D, the mean radius in 3D).
+MaterialParameters MaterialAt(const MicroRatios& ratios, double normal_stiffness_n_per_m,
+                              double bond_tensile_strength_n, double density_kg_per_m3,
+                              PlaneModel plane_model, double group_length_m);
+
+// Runs (or resumes) the sweep. Throws InputError for invalid designs or options, FileError
+// when the journal cannot be written. A point whose simulation fails is kept with ok = false.
+template <int Dim>
+MapSweep RunMapSweep(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts_packing,
+                     const SweepDesign& design, const MapSweepOptions& options);
+
+// Fits the four surfaces (nu, Psi_E, Psi_c, Psi_t) over the design's inputs from the
+// points that succeeded; InputError if too few did. max_total_degree as ResponseSurface.
+MapSet FitMaps(const MapSweep& sweep, const SweepDesign& design, int max_total_degree);
+
+}  // namespace specimen

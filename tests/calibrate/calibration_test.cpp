@@ -1,0 +1,159 @@
+// calibrate-to-material end to end on a small specimen: a target made by the model itself
+// (a known parameter set run through the same tests) must be recovered within the
+// tolerances, the maps stored and reused, and maps of another packing refused.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "calibrate/calibration.h"
+#include "calibrate/calibration_outputs.h"
+#include "common/error.h"
+#include "solver/lab_scene_file.h"
+
+namespace specimen {
+namespace {
+
+namespace fs = std::filesystem;
+
+const CalibrationSpecimens<2>& Specimens() {
+  static const CalibrationSpecimens<2> specimens = [] {
+    SpecimenPlan<2> plan;
+    plan.ucs_domain = "rectangle 0 0 0.01 0.01";
+    plan.ucs_particles = 300;
+    plan.sweep_fraction = 1.0;  // maps on the verification specimens
+    plan.seed = 5;
+    return MakeCalibrationSpecimens<2>(plan);
+  }();
+  return specimens;
+}
+
+CalibrationOptions SmallOptions(const fs::path& maps) {
+  CalibrationOptions o;
+  o.model = CalibrationModel::kRigid;
+  o.maps_directory = maps.string();
+  o.rigid_design.fixed.friction_coefficient = 0.8;
+  o.rigid_design.axes = {{MicroRatio::kStiffnessRatio, 0.2, 0.8, 3}, {MicroRatio::kStrengthRatio, 2.0, 6.0, 3}};
+  o.workers = 2;
+  o.max_verification_rounds = 8;
+  return o;
+}
+
+// The target: what the tests measure for kn 1e10, kt/kn 0.5, Rn 2 kN, Rt/Rn 4, mu 0.8.
+TargetMaterial ModelMadeTarget() {
+  const CalibrationSpecimens<2>& s = Specimens();
+  MicroRatios r;
+  r.tangential_to_normal_stiffness = 0.5;
+  r.shear_to_tensile_strength = 4.0;
+  r.friction_coefficient = 0.8;
+  const MaterialParameters m = MaterialAt(r, 1e10, 2000.0, 2600.0, PlaneModel::kPlaneStrain, 1.0);
+  LabTestOptions test;
+  test.scale_density = true;
+  test.strain_limit = 0.05;
+  const LabTestResult ucs = RunLabTest<2>(s.ucs, m, test);
+  test.kind = LabTestKind::kBrazilian;
+  const LabTestResult bts = RunLabTest<2>(s.bts, m, test);
+  TargetMaterial t;
+  t.name = "made by the model";
+  t.youngs_modulus_pa = ucs.elastic.youngs_modulus_pa;
+  t.poisson_ratio = ucs.elastic.poisson_ratio;
+  t.ucs_pa = ucs.peak_stress_pa;
+  t.tensile_strength_pa = bts.tensile_strength_pa;
+  t.density_kg_per_m3 = 2600.0;
+  return t;
+}
+
+TEST(CalibrateToMaterial, RecoversAModelMadeTargetAndReusesItsMaps) {
+  const fs::path maps = fs::temp_directory_path() / "specimen_calibration_maps";
+  fs::remove_all(maps);
+  const TargetMaterial target = ModelMadeTarget();
+  const CalibrationOptions options = SmallOptions(maps);
+  const CalibrationSummary first = CalibrateToMaterial<2>(Specimens(), target, options);
+  SCOPED_TRACE(first.FullReport());
+  EXPECT_FALSE(first.maps_reused);
+  EXPECT_EQ(first.model_used, "rigid");
+  ASSERT_TRUE(first.converged);
+  const VerificationRound& last = first.rounds.back();
+  EXPECT_LE(std::abs(last.error_youngs), options.tolerance_youngs);
+  EXPECT_LE(std::abs(last.error_poisson), options.tolerance_poisson);
+  EXPECT_LE(std::abs(last.error_ucs), options.tolerance_ucs);
+  EXPECT_LE(std::abs(last.error_tensile), options.tolerance_tensile);
+  // The parameters that made the target, up to what the small specimen can tell apart.
+  EXPECT_NEAR(first.material.tangential_stiffness_n_per_m / first.material.normal_stiffness_n_per_m, 0.5, 0.15);
+  EXPECT_NEAR(first.material.normal_stiffness_n_per_m / 1e10, 1.0, 0.25);
+  EXPECT_FALSE(first.stability_verdict.empty());
+  ASSERT_FALSE(first.maps_path.empty());
+  EXPECT_TRUE(fs::exists(first.maps_path));
+  EXPECT_FALSE(fs::exists(first.maps_path + ".journal"));  // removed once the maps are stored
+
+  // Stored maps are reused: no sweep.
+  const CalibrationSummary second = CalibrateToMaterial<2>(Specimens(), target, options);
+  EXPECT_TRUE(second.maps_reused);
+  EXPECT_EQ(second.sweep_seconds, 0.0);
+
+  // The outputs: the scenes are valid run-test scenes with the calibrated material.
+  const fs::path out = fs::temp_directory_path() / "specimen_calibration_out";
+  fs::remove_all(out);
+  CalibrationOutputOptions output;
+  output.directory = out.string();
+  output.name = "cal";
+  output.pictures = false;
+  const CalibrationOutputsWritten written = WriteCalibrationOutputs<2>(second, Specimens(), options, output);
+  EXPECT_GE(written.files.size(), 10u);
+  const LabScene scene = LoadLabScene((out / "cal_ucs_scene.toml").string());
+  EXPECT_DOUBLE_EQ(scene.material.normal_stiffness_n_per_m, second.material.normal_stiffness_n_per_m);
+  EXPECT_DOUBLE_EQ(scene.material.bond_tensile_strength_n, second.material.bond_tensile_strength_n);
+  EXPECT_TRUE(fs::exists(out / "cal_report.json"));
+
+  // Maps of another packing (porosity moved) are refused, naming the reason.
+  nlohmann::json j;
+  std::ifstream(first.maps_path) >> j;
+  j["descriptors"]["ucs"]["porosity"] = j["descriptors"]["ucs"]["porosity"].get<double>() + 0.05;
+  const fs::path foreign = maps / "foreign.json";
+  std::ofstream(foreign) << j.dump();
+  CalibrationOptions with_file = options;
+  with_file.maps_file = foreign.string();
+  try {
+    CalibrateToMaterial<2>(Specimens(), target, with_file);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("another packing"), std::string::npos) << e.what();
+  }
+  fs::remove_all(maps);
+  fs::remove_all(out);
+}
+
+TEST(CalibrateToMaterial, InvalidOptionsAndTargetsAreRefusedBeforeAnyWork) {
+  const TargetMaterial good = [] {
+    TargetMaterial t;
+    t.name = "t";
+    t.youngs_modulus_pa = 2e10;
+    t.poisson_ratio = 0.2;
+    t.ucs_pa = 1e8;
+    t.tensile_strength_pa = 1e7;
+    t.density_kg_per_m3 = 2600;
+    return t;
+  }();
+  CalibrationOptions options;
+  options.max_spectral_radius = 1.5;
+  try {
+    CalibrateToMaterial<2>(Specimens(), good, options);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("max_spectral_radius"), std::string::npos) << e.what();
+  }
+  TargetMaterial bad = good;
+  bad.ucs_pa = 5e6;  // below the tensile strength
+  EXPECT_THROW(CalibrateToMaterial<2>(Specimens(), bad, CalibrationOptions()), InputError);
+  options = CalibrationOptions();
+  options.maps_file = "/nonexistent/maps.json";
+  EXPECT_THROW(CalibrateToMaterial<2>(Specimens(), good, options), FileError);
+  SpecimenPlan<2> plan;
+  plan.ucs_domain = "disc 0 0 1";
+  EXPECT_THROW(MakeCalibrationSpecimens<2>(plan), InputError);
+}
+
+}  // namespace
+}  // namespace specimen

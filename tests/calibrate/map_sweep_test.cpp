@@ -1,0 +1,218 @@
+// The map sweep: design grids, the lab tests at each point reduced to groups, the journal
+// that lets a killed sweep resume, the stored map file and its packing check.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "calibrate/map_store.h"
+#include "calibrate/map_sweep.h"
+#include "common/error.h"
+#include "generator/generate.h"
+#include "generator/metrics.h"
+
+namespace specimen {
+namespace {
+
+namespace fs = std::filesystem;
+
+Packing<2> SmallPacking(const Domain<2>& domain, int count, double mean_radius) {
+  GeneratorOptions options = DefaultGeneratorOptions<2>();
+  if (count > 0) options.particle_count = count;
+  else options.mean_radius = mean_radius;
+  options.seed = 3;
+  GeneratorSummary summary;
+  return GeneratePacking<2>(domain, options, &summary);
+}
+
+// One small UCS square and its Brazilian disc, shared by the tests (generated once).
+struct Specimens {
+  Packing<2> ucs = SmallPacking(Domain<2>::Rectangle(0, 0, 0.01, 0.01), 300, 0.0);
+  Packing<2> bts = SmallPacking(Domain<2>::Disc(Vector<2>(0.005, 0.005), 0.005), 0,
+                                VolumeMeanRadius<2>(ucs.radii));
+};
+const Specimens& Shared() {
+  static const Specimens specimens;
+  return specimens;
+}
+
+SweepDesign TwoByTwo() {
+  SweepDesign d;
+  d.fixed.friction_coefficient = 0.8;
+  d.axes = {{MicroRatio::kStiffnessRatio, 0.25, 0.75, 2}, {MicroRatio::kStrengthRatio, 2.0, 6.0, 2}};
+  return d;
+}
+
+MapSweepOptions SmallOptions() {
+  MapSweepOptions o;
+  o.normal_stiffness_n_per_m = 1e10;
+  o.bond_tensile_strength_n = 2000.0;
+  o.density_kg_per_m3 = 2600.0;
+  o.workers = 2;
+  o.test.scale_density = true;
+  return o;
+}
+
+TEST(SweepDesign, FullFactorialGridFirstAxisSlowest) {
+  SweepDesign d = TwoByTwo();
+  d.axes[0].levels = 3;
+  const std::vector<MicroRatios> points = d.Points();
+  ASSERT_EQ(points.size(), 6u);
+  EXPECT_DOUBLE_EQ(points[0].tangential_to_normal_stiffness, 0.25);
+  EXPECT_DOUBLE_EQ(points[1].shear_to_tensile_strength, 6.0);
+  EXPECT_DOUBLE_EQ(points[2].tangential_to_normal_stiffness, 0.5);
+  EXPECT_DOUBLE_EQ(points[5].tangential_to_normal_stiffness, 0.75);
+  for (const MicroRatios& r : points) EXPECT_DOUBLE_EQ(r.friction_coefficient, 0.8);
+  const SweepDesign back = SweepDesign::FromJson(d.ToJson());
+  EXPECT_EQ(back.ToJson(), d.ToJson());
+}
+
+TEST(SweepDesign, InvalidDesignsNameTheAxisAndRange) {
+  std::string error;
+  SweepDesign d = TwoByTwo();
+  d.axes[0].levels = 1;
+  EXPECT_FALSE(d.IsValid(&error));
+  EXPECT_NE(error.find("levels of kt/kn"), std::string::npos) << error;
+  d = TwoByTwo();
+  d.axes[1].lower = 7.0;
+  EXPECT_FALSE(d.IsValid(&error));
+  EXPECT_NE(error.find("Rt/Rn"), std::string::npos) << error;
+  d = TwoByTwo();
+  d.axes.push_back(d.axes[0]);
+  EXPECT_FALSE(d.IsValid(&error));
+  EXPECT_NE(error.find("twice"), std::string::npos) << error;
+  EXPECT_TRUE(DefaultSweepDesign(false).IsValid(&error)) << error;
+  EXPECT_TRUE(DefaultSweepDesign(true, 0.45, 0.3).IsValid(&error)) << error;
+}
+
+// The sweep measures the trends of the Voigt estimate (Madan note 4.3): nu falls and E
+// rises with kt/kn; the journal makes a second call run nothing; a torn line is skipped.
+TEST(MapSweep, MeasuresTheVoigtTrendsAndResumesFromTheJournal) {
+  const Specimens& s = Shared();
+  const fs::path journal = fs::temp_directory_path() / "specimen_sweep_journal.jsonl";
+  fs::remove(journal);
+  MapSweepOptions options = SmallOptions();
+  options.journal_path = journal.string();
+  const SweepDesign design = TwoByTwo();
+  const MapSweep first = RunMapSweep<2>(s.ucs, s.bts, design, options);
+  ASSERT_EQ(first.points.size(), 4u);
+  EXPECT_EQ(first.resumed_points, 0);
+  for (const SweepPoint& p : first.points) {
+    ASSERT_TRUE(p.ok) << p.failure;
+    EXPECT_GT(p.elastic_group, 0.0);
+    EXPECT_GT(p.compressive_group, p.tensile_group);  // sigma_c > sigma_t
+    // Plane-strain Voigt nu = (1 - kt/kn) / 4; the irregular packing and the damage inside
+    // the secant window move it, but not by more than 0.08.
+    EXPECT_NEAR(p.poisson_ratio, (1.0 - p.ratios.tangential_to_normal_stiffness) / 4.0, 0.08);
+  }
+  // Points 0, 1 at kt/kn 0.25; 2, 3 at 0.75.
+  EXPECT_GT(first.points[0].poisson_ratio, first.points[2].poisson_ratio + 0.05);
+  EXPECT_LT(first.points[0].elastic_group, first.points[2].elastic_group);
+
+  // A torn last line, as a kill in the middle of a write leaves it.
+  {
+    std::ofstream out(journal, std::ios::app);
+    out << "{\"design\": \"trunc";
+  }
+  const MapSweep again = RunMapSweep<2>(s.ucs, s.bts, design, options);
+  EXPECT_EQ(again.resumed_points, 4);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(again.points[i].ToJson(), first.points[i].ToJson());
+
+  // Another design does not reuse these points.
+  SweepDesign other = design;
+  other.fixed.friction_coefficient = 0.5;
+  other.axes = {{MicroRatio::kStiffnessRatio, 0.25, 0.75, 2}};
+  options.workers = 1;
+  const MapSweep other_sweep = RunMapSweep<2>(s.ucs, s.bts, other, options);
+  EXPECT_EQ(other_sweep.resumed_points, 0);
+  fs::remove(journal);
+}
+
+TEST(MapSweep, BadOptionsAreRefusedBeforeAnyWork) {
+  const Specimens& s = Shared();
+  MapSweepOptions options = SmallOptions();
+  options.normal_stiffness_n_per_m = -1.0;
+  try {
+    RunMapSweep<2>(s.ucs, s.bts, TwoByTwo(), options);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("normal_stiffness"), std::string::npos) << e.what();
+  }
+  options = SmallOptions();
+  options.journal_path = "/nonexistent-directory/journal.jsonl";
+  EXPECT_THROW(RunMapSweep<2>(s.ucs, s.bts, TwoByTwo(), options), FileError);
+}
+
+// Synthetic points on known functions: the stored file round-trips, the elastic surfaces
+// ignore Rt/Rn, a map is refused for a packing of another porosity.
+TEST(MapStore, RoundTripAndPackingCheck) {
+  MapSweep sweep;
+  SweepDesign design;
+  design.axes = {{MicroRatio::kStiffnessRatio, 0.1, 0.9, 4}, {MicroRatio::kStrengthRatio, 2.0, 10.0, 3}};
+  int index = 0;
+  for (const MicroRatios& r : design.Points()) {
+    SweepPoint p;
+    p.index = index++;
+    p.ratios = r;
+    p.ok = true;
+    const double x = r.tangential_to_normal_stiffness, y = r.shear_to_tensile_strength;
+    p.poisson_ratio = (1.0 - x) / 4.0;
+    p.elastic_group = 0.2 + 0.1 * x;
+    p.compressive_group = 0.3 + 0.05 * y;
+    p.tensile_group = 0.1 + 0.01 * y - 0.02 * x;
+    p.ucs_pa = 1e8;
+    p.tensile_strength_pa = 1e7;
+    p.youngs_modulus_pa = 1e10;
+    sweep.points.push_back(p);
+  }
+  StoredMaps stored;
+  stored.design = design;
+  stored.points = sweep.points;
+  stored.maps = FitMaps(sweep, design, 2);
+  stored.ucs_descriptors.dimension = 2;
+  stored.ucs_descriptors.porosity = 0.10;
+  stored.ucs_descriptors.coordination = 5.8;
+  stored.ucs_descriptors.radius_ratio = 8.0;
+  stored.bts_descriptors = stored.ucs_descriptors;
+  stored.code_version = "test";
+  stored.key = MapKey(2, false, design, {}, {}, 2);
+  EXPECT_EQ(stored.maps.poisson_ratio.Gradient(Eigen::Vector2d(0.5, 4.0))[1], 0.0);
+  EXPECT_NEAR(stored.maps.poisson_ratio.Evaluate(Eigen::Vector2d(0.5, 7.0)), 0.125, 1e-9);
+
+  const fs::path path = fs::temp_directory_path() / "specimen_maps_test.json";
+  SaveStoredMaps(stored, path.string());
+  const StoredMaps back = LoadStoredMaps(path.string());
+  EXPECT_EQ(back.key, stored.key);
+  EXPECT_EQ(back.points.size(), stored.points.size());
+  const Eigen::Vector2d x(0.37, 5.5);
+  EXPECT_DOUBLE_EQ(back.maps.compressive_group.Evaluate(x), stored.maps.compressive_group.Evaluate(x));
+  EXPECT_DOUBLE_EQ(back.maps.elastic_group.Evaluate(x), stored.maps.elastic_group.Evaluate(x));
+  EXPECT_EQ(back.maps.Lower(), stored.maps.Lower());
+
+  std::string why;
+  PackingDescriptors other = stored.ucs_descriptors;
+  EXPECT_TRUE(MapsMatchPacking(stored.ucs_descriptors, other, &why));
+  other.porosity = 0.14;
+  EXPECT_FALSE(MapsMatchPacking(stored.ucs_descriptors, other, &why));
+  EXPECT_NE(why.find("porosity"), std::string::npos) << why;
+  other = stored.ucs_descriptors;
+  other.dimension = 3;
+  EXPECT_FALSE(MapsMatchPacking(stored.ucs_descriptors, other, &why));
+
+  {
+    std::ofstream out(path);
+    out << "{\"format\": \"specimen-maps 1\", \"dimension\": 2";  // truncated
+  }
+  EXPECT_THROW(LoadStoredMaps(path.string()), InputError);
+  {
+    std::ofstream out(path);
+    out << "{\"format\": \"something else\"}";
+  }
+  EXPECT_THROW(LoadStoredMaps(path.string()), InputError);
+  fs::remove(path);
+  EXPECT_THROW(LoadStoredMaps(path.string()), FileError);
+}
+
+}  // namespace
+}  // namespace specimen

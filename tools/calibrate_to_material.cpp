@@ -1,0 +1,163 @@
+// calibrate-to-material: contact parameters (kn, kt, Rn, Rt, mu; Ep, nu_p for deformable
+// particles) that make virtual UCS and Brazilian tests reproduce a target rock, within the
+// DDEM convergence bound, verified by running the tests (calibrate/calibration.h).
+//
+//   calibrate-to-material data/materials/labra2012_rock.toml --output out/calibration
+//
+// 1. Read and check the target material and the options (nothing runs on bad input).
+// 2. Generate the specimens (or read the given packings).
+// 3. Build or reuse the maps, invert them, verify and correct (progress on a terminal).
+// 4. Print the report and write the parameters, scenes, report, maps and pictures.
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <string>
+
+#include "calibrate/calibration.h"
+#include "calibrate/calibration_outputs.h"
+#include "calibrate/target_material.h"
+#include "common/progress.h"
+#include "generator/packing_io.h"
+#include "specimen_version.h"
+#include "tools/command_line.h"
+
+namespace specimen {
+namespace {
+
+struct CommandLine {
+  std::string material;
+  int dimension = 2;
+  std::string model = "auto";
+  std::string packing, bts_packing;
+  std::string ucs_domain;
+  int count = 0;
+  double sweep_fraction = 0.3;
+  std::uint64_t seed = 1;
+  double radius_ratio = 10.0;
+  std::string maps_directory = "data/maps";
+  std::string maps_file;
+  bool no_reuse = false;
+  int workers = 0;
+  int rounds = 6;
+  double max_spectral_radius = 0.9;
+  double particle_poisson_ratio = 0.45;
+  double friction = 0.8;
+  double rate_group = 0.0;
+  std::string honour = "compressive";
+  std::string output = "out/calibration";
+  std::string name = "calibration";
+  bool no_pictures = false;
+  bool quiet = false;
+};
+
+template <int Dim>
+int Run(const TargetMaterial& target, CalibrationOptions options, const CommandLine& cl) {
+  // Outputs are checked before hours of work.
+  CalibrationOutputOptions output;
+  output.directory = cl.output;
+  output.name = cl.name;
+  output.pictures = !cl.no_pictures;
+  CheckCalibrationOutputLocation(output);
+
+  TerminalProgress progress(cl.quiet);
+  options.progress = progress.Callback();
+  auto specimens = [&]() {
+    if (!cl.packing.empty()) {
+      if (cl.bts_packing.empty()) throw InputError("--packing needs --bts-packing (the Brazilian disc) as well");
+      Packing<Dim> ucs = LoadPacking<Dim>(cl.packing);
+      Packing<Dim> bts = LoadPacking<Dim>(cl.bts_packing);
+      CalibrationSpecimens<Dim> s(ucs, bts, ucs, bts);
+      s.description = "UCS " + cl.packing + ", Brazilian " + cl.bts_packing + " (maps on the same packings)";
+      return s;
+    }
+    SpecimenPlan<Dim> plan;
+    plan.ucs_domain = cl.ucs_domain;
+    plan.ucs_particles = cl.count;
+    plan.sweep_fraction = cl.sweep_fraction;
+    plan.seed = cl.seed;
+    plan.radius_ratio = cl.radius_ratio;
+    plan.progress = options.progress;
+    return MakeCalibrationSpecimens<Dim>(plan);
+  }();
+  const CalibrationSummary summary = CalibrateToMaterial<Dim>(specimens, target, options);
+  progress.Finish();
+  const CalibrationOutputsWritten written = WriteCalibrationOutputs<Dim>(summary, specimens, options, output);
+  std::cout << "specimens: " << specimens.description << "\n\n";
+  std::cout << summary.FullReport() << "\n" << summary.BriefReport() << "\n";
+  std::cout << "files:\n";
+  for (const auto& file : written.files) std::cout << "  " << file << "\n";
+  for (const auto& warning : written.warnings) std::cerr << "warning: " << warning << "\n";
+  if (!summary.converged) {
+    std::cerr << "calibrate-to-material: the targets were not all met within tolerance (see the report)\n";
+    return kExitComputation;
+  }
+  return kExitOk;
+}
+
+}  // namespace
+}  // namespace specimen
+
+int main(int argc, char** argv) {
+  using namespace specimen;
+  CLI::App app{"calibrate-to-material: contact parameters of a bonded DEM/DDEM model for a target rock, "
+               "from maps of virtual UCS and Brazilian tests, verified by running them"};
+  CommandLine cl;
+  app.set_version_flag("--version", std::string(kVersion));
+  app.add_option("material", cl.material, "target material (TOML; see data/materials/)")->required();
+  app.add_option("--dimension", cl.dimension, "2 (discs, plane strain) or 3 (spheres), default 2");
+  app.add_option("--model", cl.model, "rigid | ddem | auto (DDEM when nu is beyond rigid particles), default auto");
+  app.add_option("--packing", cl.packing, "UCS specimen packing file (else generated)");
+  app.add_option("--bts-packing", cl.bts_packing, "Brazilian disc packing file (with --packing)");
+  app.add_option("--ucs-domain", cl.ucs_domain,
+                 "UCS specimen domain to generate, default 'rectangle 0 0 0.05 0.05' (2D), "
+                 "'cylinder 0 0 0.025 0 0.1' (3D)");
+  app.add_option("--count", cl.count, "particles of the UCS specimen, default 5000 (2D), 20000 (3D)");
+  app.add_option("--sweep-fraction", cl.sweep_fraction,
+                 "share of the particles of the map specimens, in (0, 1], default 0.3");
+  app.add_option("--seed", cl.seed, "generator seed, default 1");
+  app.add_option("--radius-ratio", cl.radius_ratio, "bound on r_max / r_min, default 10");
+  app.add_option("--maps-dir", cl.maps_directory, "where maps are stored and reused, default data/maps");
+  app.add_option("--maps", cl.maps_file, "use this map file (must have been built for an equivalent packing)");
+  app.add_flag("--no-reuse", cl.no_reuse, "build the maps again even if stored ones match");
+  app.add_option("--workers", cl.workers, "sweep points run at once, default: hardware threads");
+  app.add_option("--rounds", cl.rounds, "verification rounds (UCS + BTS) at most, 1 to 20, default 6");
+  app.add_option("--max-spectral-radius", cl.max_spectral_radius,
+                 "bound on rho(B) of the DDEM iteration, in (0, 1), default 0.9");
+  app.add_option("--nu-p", cl.particle_poisson_ratio, "particle Poisson ratio of the DDEM maps, default 0.45");
+  app.add_option("--friction", cl.friction, "friction coefficient mu of broken bonds, default 0.8");
+  app.add_option("--rate-group", cl.rate_group, "loading-rate group V / sqrt(kn/rho), default: run-test's");
+  app.add_option("--honour", cl.honour,
+                 "strength matched when sigma_c/sigma_t is unreachable: compressive | tensile, default compressive");
+  app.add_option("--output", cl.output, "output directory (created), default out/calibration");
+  app.add_option("--name", cl.name, "file name prefix, default calibration");
+  app.add_flag("--no-pictures", cl.no_pictures, "no PNG pictures (the CSV files are written)");
+  app.add_flag("--quiet", cl.quiet, "no progress display");
+  CLI11_PARSE(app, argc, argv);
+  return RunCommand("calibrate-to-material", [&] {
+    if (cl.dimension != 2 && cl.dimension != 3)
+      throw InputError("--dimension = " + std::to_string(cl.dimension) + ", allowed 2 or 3");
+    const TargetMaterial target = LoadTargetMaterial(cl.material);
+    CalibrationOptions options;
+    if (!ParseCalibrationModel(cl.model, &options.model))
+      throw InputError("--model = '" + cl.model + "', allowed rigid, ddem or auto");
+    if (cl.honour != "compressive" && cl.honour != "tensile")
+      throw InputError("--honour = '" + cl.honour + "', allowed compressive or tensile");
+    options.honour = cl.honour == "tensile" ? HonouredStrength::kTensile : HonouredStrength::kCompressive;
+    options.maps_directory = cl.maps_directory;
+    options.maps_file = cl.maps_file;
+    options.reuse_maps = !cl.no_reuse;
+    options.workers = cl.workers;
+    options.max_verification_rounds = cl.rounds;
+    options.max_spectral_radius = cl.max_spectral_radius;
+    options.particle_poisson_ratio = cl.particle_poisson_ratio;
+    options.friction_coefficient = cl.friction;
+    if (cl.rate_group != 0.0) options.test.loading_rate_group = cl.rate_group;
+    std::string error;
+    if (!options.IsValid(&error)) throw InputError(error);
+    if (!(cl.sweep_fraction > 0.0 && cl.sweep_fraction <= 1.0))
+      throw InputError("--sweep-fraction = " + std::to_string(cl.sweep_fraction) + ", allowed (0, 1]");
+    if (cl.count < 0) throw InputError("--count = " + std::to_string(cl.count) + ", allowed > 0");
+    return cl.dimension == 2 ? Run<2>(target, options, cl) : Run<3>(target, options, cl);
+  });
+}
