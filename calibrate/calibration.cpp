@@ -7,6 +7,7 @@
 #include <ctime>
 #include <filesystem>
 #include <future>
+#include <limits>
 #include <sstream>
 #include <thread>
 
@@ -181,6 +182,23 @@ double AdmissibleParticleCompliance(const Packing<Dim>& packing, double kn, doub
   options.locate_mode = false;
   const StabilitySummary s = AnalyseStability<Dim>(packing, scene, options);
   return s.recommended_kn_over_ep;
+}
+
+// The stored verification on a specimen equivalent to `specimen` whose measured nu and
+// strength ratio are closest to the target (weights as the inversion's); null if none.
+const VerifiedPoint* ClosestVerifiedPoint(const StoredMaps& stored, const TargetMaterial& target,
+                                          const PackingDescriptors& specimen) {
+  const InversionOptions weights;
+  const VerifiedPoint* best = nullptr;
+  double best_error = std::numeric_limits<double>::infinity();
+  for (const VerifiedPoint& v : stored.verified) {
+    if (!MapsMatchPacking(v.specimen, specimen, nullptr)) continue;
+    const double e_nu = v.poisson_ratio / target.poisson_ratio - 1.0;
+    const double e_ratio = (v.compressive_group / v.tensile_group) / target.StrengthRatio() - 1.0;
+    const double error = weights.poisson_weight * e_nu * e_nu + weights.strength_ratio_weight * e_ratio * e_ratio;
+    if (error < best_error) best_error = error, best = &v;
+  }
+  return best;
 }
 
 struct Measured {
@@ -483,6 +501,38 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     inversion.admissible_particle_compliance = [limit](double) { return limit; };
   }
   summary.inversion = InvertMaps(chosen.maps, summary.ucs_descriptors, target, inversion);
+  // A verification stored with the maps on an equivalent specimen (map_store.h) whose
+  // measured nu and sigma_c/sigma_t are close to the target is a better start than the maps:
+  // its ratios were measured on a real specimen, and kn, Rn follow from its measured groups
+  // exactly (E ~ kn, strengths ~ Rn at fixed ratios). The maps' slopes are good guides but
+  // their offsets do not transfer between points (damage in the secant window).
+  if (const VerifiedPoint* stored = ClosestVerifiedPoint(chosen, target, summary.ucs_descriptors)) {
+    if (std::abs(stored->poisson_ratio / target.poisson_ratio - 1.0) <= 3.0 * options.tolerance_poisson) {
+      InversionResult& r = summary.inversion;
+      r.ratios = stored->ratios;
+      r.normal_stiffness = NormalStiffnessFromElasticGroup(summary.ucs_descriptors, target.youngs_modulus_pa,
+                                                           stored->elastic_group);
+      r.tangential_stiffness = r.ratios.tangential_to_normal_stiffness * r.normal_stiffness;
+      const bool compressive = r.strength_ratio_reached || options.honour == HonouredStrength::kCompressive;
+      r.bond_tensile_strength =
+          compressive ? BondStrengthFromStrengthGroup(summary.ucs_descriptors, target.ucs_pa, stored->compressive_group)
+                      : BondStrengthFromStrengthGroup(summary.bts_descriptors, target.tensile_strength_pa,
+                                                      stored->tensile_group);
+      r.bond_shear_strength = r.ratios.shear_to_tensile_strength * r.bond_tensile_strength;
+      if (r.ratios.normal_stiffness_to_particle > 0)
+        r.particle_youngs_modulus = r.normal_stiffness / (r.ratios.normal_stiffness_to_particle * group_length);
+      summary.transfer_corrected = true;
+      char note[300];
+      std::snprintf(note, sizeof(note),
+                    "started from a verification stored with the maps (nu %.4f, sigma_c/sigma_t %.3f measured on an "
+                    "equivalent specimen) instead of the maps' prediction",
+                    stored->poisson_ratio,
+                    stored->compressive_group / stored->tensile_group *
+                        (summary.bts_descriptors.SolidCoordination() / summary.bts_descriptors.CharacteristicArea()) /
+                        (summary.ucs_descriptors.SolidCoordination() / summary.ucs_descriptors.CharacteristicArea()));
+      summary.notes.push_back(note);
+    }
+  }
   summary.tensile_honoured = summary.inversion.strength_ratio_reached;
   for (const std::string& note : summary.inversion.notes) summary.notes.push_back(note);
 
@@ -572,14 +622,36 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
              << "; ";
       }
     }
+    // How E/kn and strength/Rn change with the ratio change: from the last two rounds when
+    // kt/kn moved between them (measured on this specimen), else from the maps.
     const Eigen::VectorXd x_old = at(ratios), x_new = at(next);
-    const double elastic_change = chosen.maps.elastic_group.Evaluate(x_new) / chosen.maps.elastic_group.Evaluate(x_old);
+    const bool compressive = honoured == HonouredStrength::kCompressive;
+    const ResponseSurface& strength_map = compressive ? chosen.maps.compressive_group : chosen.maps.tensile_group;
+    double elastic_change = chosen.maps.elastic_group.Evaluate(x_new) / chosen.maps.elastic_group.Evaluate(x_old);
+    double strength_change = strength_map.Evaluate(x_new) / strength_map.Evaluate(x_old);
+    const size_t n = summary.rounds.size();
+    const double dx_next = next.tangential_to_normal_stiffness - ratios.tangential_to_normal_stiffness;
+    if (n >= 2 && dx_next != 0.0) {
+      const VerificationRound& a = summary.rounds[n - 2];
+      const double dx = v.ratios.tangential_to_normal_stiffness - a.ratios.tangential_to_normal_stiffness;
+      if (std::abs(dx) > 1e-6) {
+        auto secant_change = [&](double value_a, double value_b) {  // of value per unit of its scale
+          const double slope = (value_b - value_a) / dx;
+          const double predicted = value_b + slope * dx_next;
+          return predicted > 0.0 ? std::clamp(predicted / value_b, 0.5, 2.0) : 1.0;
+        };
+        elastic_change = secant_change(a.youngs_modulus_pa / a.material.normal_stiffness_n_per_m,
+                                       v.youngs_modulus_pa / v.material.normal_stiffness_n_per_m);
+        strength_change =
+            compressive ? secant_change(a.ucs_pa / a.material.bond_tensile_strength_n,
+                                        v.ucs_pa / v.material.bond_tensile_strength_n)
+                        : secant_change(a.tensile_strength_pa / a.material.bond_tensile_strength_n,
+                                        v.tensile_strength_pa / v.material.bond_tensile_strength_n);
+      }
+    }
     const double new_kn = kn * (target.youngs_modulus_pa / v.youngs_modulus_pa) / elastic_change;
-    const ResponseSurface& strength_map =
-        honoured == HonouredStrength::kCompressive ? chosen.maps.compressive_group : chosen.maps.tensile_group;
-    const double strength_change = strength_map.Evaluate(x_new) / strength_map.Evaluate(x_old);
-    const double strength_factor = honoured == HonouredStrength::kCompressive ? target.ucs_pa / v.ucs_pa
-                                                                             : target.tensile_strength_pa / v.tensile_strength_pa;
+    const double strength_factor = compressive ? target.ucs_pa / v.ucs_pa
+                                               : target.tensile_strength_pa / v.tensile_strength_pa;
     const double new_rn = rn * strength_factor / strength_change;
     what << "kn x " << new_kn / kn << ", Rn x " << new_rn / rn;
     summary.rounds.back().correction = what.str();
@@ -591,6 +663,24 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
   summary.material = final_round.material;
   summary.final_ucs = last.ucs;
   summary.final_bts = last.bts;
+  // Keep what the real specimen measured with the maps (the next calibration starts near).
+  {
+    VerifiedPoint v;
+    v.ratios = final_round.ratios;
+    v.specimen = summary.ucs_descriptors;
+    v.poisson_ratio = final_round.poisson_ratio;
+    v.elastic_group = ElasticGroup(summary.ucs_descriptors, final_round.youngs_modulus_pa,
+                                   final_round.material.normal_stiffness_n_per_m);
+    v.compressive_group = StrengthGroup(summary.ucs_descriptors, final_round.ucs_pa,
+                                        final_round.material.bond_tensile_strength_n);
+    v.tensile_group = StrengthGroup(summary.bts_descriptors, final_round.tensile_strength_pa,
+                                    final_round.material.bond_tensile_strength_n);
+    summary.maps.verified.push_back(v);
+    constexpr size_t kMaxVerified = 50;
+    if (summary.maps.verified.size() > kMaxVerified)
+      summary.maps.verified.erase(summary.maps.verified.begin());
+    if (!summary.maps_path.empty() && options.maps_file.empty()) SaveStoredMaps(summary.maps, summary.maps_path);
+  }
   if (!summary.converged)
     summary.notes.push_back("the verification budget (" + std::to_string(options.max_verification_rounds) +
                             " rounds) was spent before every honoured target was within tolerance");
@@ -714,6 +804,7 @@ std::string CalibrationSummary::FullReport() const {
                                                  Percent(transfer_error_poisson) + ", UCS " +
                                                  Percent(transfer_error_ucs) + ", sigma_t " +
                                                  Percent(transfer_error_tensile));
+  row("started from a stored verification", transfer_corrected ? "yes" : "no");
   row("converged", converged ? "yes" : "no");
   out << "parameters\n";
   row("kn, kt [N/m]", num("%.6g", material.normal_stiffness_n_per_m) + ", " + num("%.6g", material.tangential_stiffness_n_per_m));
@@ -785,6 +876,7 @@ nlohmann::json CalibrationSummary::ToJson() const {
                          {"poisson_ratio", transfer_error_poisson},
                          {"ucs", transfer_error_ucs},
                          {"tensile_strength", transfer_error_tensile}};
+  j["transfer_corrected"] = transfer_corrected;
   j["converged"] = converged;
   j["tensile_honoured"] = tensile_honoured;
   nlohmann::json parameters = {{"normal_stiffness_n_per_m", material.normal_stiffness_n_per_m},

@@ -154,6 +154,8 @@ struct CalibrationSummary {
   // Inversion and verification.
   InversionResult inversion;
   std::vector<VerificationRound> rounds;
+  // The verification started from one stored with the maps (map_store.h VerifiedPoint).
+  bool transfer_corrected = false;
   // Relative deviation of the first verification round from the maps' prediction.
   double transfer_error_youngs = 0.0, transfer_error_poisson = 0.0;
   double transfer_error_ucs = 0.0, transfer_error_tensile = 0.0;

@@ -27,6 +27,26 @@ std::string Hash(const std::string& text) {
 
 }  // namespace
 
+nlohmann::json VerifiedPoint::ToJson() const {
+  return {{"ratios", SweepPointRatiosToJson(ratios)},
+          {"specimen", DescriptorsToJson(specimen)},
+          {"poisson_ratio", poisson_ratio},
+          {"elastic_group", elastic_group},
+          {"compressive_group", compressive_group},
+          {"tensile_group", tensile_group}};
+}
+
+VerifiedPoint VerifiedPoint::FromJson(const nlohmann::json& j) {
+  VerifiedPoint v;
+  v.ratios = SweepPointRatiosFromJson(j.at("ratios"));
+  v.specimen = DescriptorsFromJson(j.at("specimen"));
+  v.poisson_ratio = j.at("poisson_ratio").get<double>();
+  v.elastic_group = j.at("elastic_group").get<double>();
+  v.compressive_group = j.at("compressive_group").get<double>();
+  v.tensile_group = j.at("tensile_group").get<double>();
+  return v;
+}
+
 nlohmann::json StoredMaps::ToJson() const {
   nlohmann::json j;
   j["format"] = kFormat;
@@ -43,6 +63,8 @@ nlohmann::json StoredMaps::ToJson() const {
   j["sweep_seconds"] = sweep_seconds;
   j["points"] = nlohmann::json::array();
   for (const SweepPoint& p : points) j["points"].push_back(p.ToJson());
+  j["verified"] = nlohmann::json::array();
+  for (const VerifiedPoint& v : verified) j["verified"].push_back(v.ToJson());
   j["surfaces"] = {{"poisson_ratio", maps.poisson_ratio.ToJson()},
                    {"elastic_group", maps.elastic_group.ToJson()},
                    {"compressive_group", maps.compressive_group.ToJson()},
@@ -68,6 +90,8 @@ StoredMaps StoredMaps::FromJson(const nlohmann::json& j) {
     s.max_total_degree = j.at("max_total_degree").get<int>();
     s.sweep_seconds = j.value("sweep_seconds", 0.0);
     for (const auto& p : j.at("points")) s.points.push_back(SweepPoint::FromJson(p));
+    if (j.contains("verified"))
+      for (const auto& v : j.at("verified")) s.verified.push_back(VerifiedPoint::FromJson(v));
     const auto& surfaces = j.at("surfaces");
     s.maps.inputs = s.design.Inputs();
     s.maps.fixed = s.design.fixed;

@@ -20,6 +20,22 @@
 
 namespace specimen {
 
+// A verification run stored with the maps: what the real (larger) specimen measured at a
+// point of the maps. A later calibration on an equivalent specimen to a similar target starts
+// from the closest one instead of the maps' prediction (calibration.cpp), so that its first
+// verification round already lands near the target.
+struct VerifiedPoint {
+  MicroRatios ratios;
+  PackingDescriptors specimen;  // the UCS specimen it was measured on
+  double poisson_ratio = 0.0;
+  double elastic_group = 0.0;
+  double compressive_group = 0.0;
+  double tensile_group = 0.0;
+
+  nlohmann::json ToJson() const;
+  static VerifiedPoint FromJson(const nlohmann::json& j);
+};
+
 struct StoredMaps {
   int dimension = 2;
   bool deformable = false;
@@ -34,6 +50,7 @@ struct StoredMaps {
   int max_total_degree = 2;
   std::vector<SweepPoint> points;
   MapSet maps;                // fitted from the points
+  std::vector<VerifiedPoint> verified;  // verification runs on real specimens, newest last
   double sweep_seconds = 0.0; // wall time the sweep took when it was built
 
   nlohmann::json ToJson() const;

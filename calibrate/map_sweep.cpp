@@ -37,7 +37,9 @@ void SetRatio(MicroRatios* r, MicroRatio ratio, double value) {
   }
 }
 
-nlohmann::json RatiosToJson(const MicroRatios& r) {
+}  // namespace
+
+nlohmann::json SweepPointRatiosToJson(const MicroRatios& r) {
   return {{"kt_over_kn", r.tangential_to_normal_stiffness},
           {"rt_over_rn", r.shear_to_tensile_strength},
           {"friction", r.friction_coefficient},
@@ -45,7 +47,7 @@ nlohmann::json RatiosToJson(const MicroRatios& r) {
           {"particle_poisson_ratio", r.particle_poisson_ratio}};
 }
 
-MicroRatios RatiosFromJson(const nlohmann::json& j) {
+MicroRatios SweepPointRatiosFromJson(const nlohmann::json& j) {
   MicroRatios r;
   r.tangential_to_normal_stiffness = j.at("kt_over_kn").get<double>();
   r.shear_to_tensile_strength = j.at("rt_over_rn").get<double>();
@@ -54,6 +56,8 @@ MicroRatios RatiosFromJson(const nlohmann::json& j) {
   r.particle_poisson_ratio = j.at("particle_poisson_ratio").get<double>();
   return r;
 }
+
+namespace {
 
 // The design's identity in the journal: a point is reused only by the same design.
 std::string DesignKey(const SweepDesign& design, const MapSweepOptions& options) {
@@ -160,7 +164,7 @@ nlohmann::json SweepDesign::ToJson() const {
   for (const SweepAxis& a : axes)
     j["axes"].push_back({{"ratio", MicroRatioName(a.ratio)}, {"lower", a.lower}, {"upper", a.upper},
                          {"levels", a.levels}});
-  j["fixed"] = RatiosToJson(fixed);
+  j["fixed"] = SweepPointRatiosToJson(fixed);
   return j;
 }
 
@@ -169,7 +173,7 @@ SweepDesign SweepDesign::FromJson(const nlohmann::json& j) {
   for (const auto& a : j.at("axes"))
     d.axes.push_back({RatioFromName(a.at("ratio").get<std::string>()), a.at("lower").get<double>(),
                       a.at("upper").get<double>(), a.at("levels").get<int>()});
-  d.fixed = RatiosFromJson(j.at("fixed"));
+  d.fixed = SweepPointRatiosFromJson(j.at("fixed"));
   return d;
 }
 
@@ -192,7 +196,7 @@ SweepDesign DefaultSweepDesign(bool deformable, double particle_poisson_ratio,
 
 nlohmann::json SweepPoint::ToJson() const {
   return {{"index", index},
-          {"ratios", RatiosToJson(ratios)},
+          {"ratios", SweepPointRatiosToJson(ratios)},
           {"ok", ok},
           {"failure", failure},
           {"youngs_modulus_pa", youngs_modulus_pa},
@@ -210,7 +214,7 @@ nlohmann::json SweepPoint::ToJson() const {
 SweepPoint SweepPoint::FromJson(const nlohmann::json& j) {
   SweepPoint p;
   p.index = j.at("index").get<int>();
-  p.ratios = RatiosFromJson(j.at("ratios"));
+  p.ratios = SweepPointRatiosFromJson(j.at("ratios"));
   p.ok = j.at("ok").get<bool>();
   p.failure = j.at("failure").get<std::string>();
   p.youngs_modulus_pa = j.at("youngs_modulus_pa").get<double>();

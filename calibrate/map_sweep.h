@@ -62,6 +62,10 @@ SweepDesign DefaultSweepDesign(bool deformable, double particle_poisson_ratio = 
                                double largest_particle_compliance = 0.0,
                                double friction_coefficient = 0.8);
 
+// The ratios as JSON (the keys of the map files).
+nlohmann::json SweepPointRatiosToJson(const MicroRatios& ratios);
+MicroRatios SweepPointRatiosFromJson(const nlohmann::json& j);
+
 // The measured results of one sweep point.
 struct SweepPoint {
   int index = -1;  // in SweepDesign::Points()
