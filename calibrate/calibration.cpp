@@ -201,6 +201,14 @@ const VerifiedPoint* ClosestVerifiedPoint(const StoredMaps& stored, const Target
   return best;
 }
 
+// The default design with `levels` on kt/kn and one fewer (at least 3) on the other axes.
+SweepDesign WithLevels(SweepDesign design, int levels) {
+  if (levels <= 0) return design;
+  for (SweepAxis& axis : design.axes)
+    axis.levels = axis.ratio == MicroRatio::kStiffnessRatio ? levels : std::max(3, levels - 1);
+  return design;
+}
+
 struct Measured {
   LabTestResult ucs, bts;
 };
@@ -311,6 +319,8 @@ bool CalibrationOptions::IsValid(std::string* error) const {
   std::string inner;
   if (max_total_degree < 1 || max_total_degree > 4)
     out << "max_total_degree = " << max_total_degree << ", allowed 1 to 4";
+  else if (sweep_levels != 0 && (sweep_levels < 3 || sweep_levels > 12))
+    out << "sweep_levels = " << sweep_levels << ", allowed 0 (default) or 3 to 12";
   else if (!(particle_poisson_ratio > -1.0 && particle_poisson_ratio < 0.5))
     out << "particle_poisson_ratio = " << particle_poisson_ratio << ", allowed (-1, 0.5)";
   else if (!(friction_coefficient >= 0.0 && friction_coefficient <= 10.0))
@@ -445,7 +455,8 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
                                                    options.max_spectral_radius);
     summary.admissible_particle_compliance = admissible;
     if (!options.deformable_design.axes.empty()) return options.deformable_design;
-    return DefaultSweepDesign(true, options.particle_poisson_ratio, admissible, options.friction_coefficient);
+    return WithLevels(DefaultSweepDesign(true, options.particle_poisson_ratio, admissible, options.friction_coefficient),
+                      options.sweep_levels);
   };
 
   StoredMaps chosen;
@@ -462,7 +473,8 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     StoredMaps rigid;
     if (options.model != CalibrationModel::kDeformable) {
       const SweepDesign design = options.rigid_design.axes.empty()
-                                     ? DefaultSweepDesign(false, 0.0, 0.0, options.friction_coefficient)
+                                     ? WithLevels(DefaultSweepDesign(false, 0.0, 0.0, options.friction_coefficient),
+                                                  options.sweep_levels)
                                      : options.rigid_design;
       rigid = obtain_maps(false, design, "rigid maps");
       summary.rigid_reach = ReachOf(rigid);

@@ -95,6 +95,9 @@ struct CalibrationOptions {
   // Designs; an empty axis list takes DefaultSweepDesign.
   SweepDesign rigid_design;
   SweepDesign deformable_design;
+  // Levels of kt/kn in the default designs (the other axes: one fewer, at least 3), 3 to 12;
+  // 0 = DefaultSweepDesign's (4 rigid, 3 deformable). Denser sweeps: smaller fit error.
+  int sweep_levels = 0;
   double particle_poisson_ratio = 0.45;  // nu_p of the deformable maps, in (-1, 0.5)
   double friction_coefficient = 0.8;     // mu (Labra's verification value), >= 0
   int workers = 0;                       // sweep points at once; 0 = hardware threads

@@ -44,6 +44,7 @@ struct CommandLine {
   double particle_poisson_ratio = 0.45;
   double friction = 0.8;
   double rate_group = 0.0;
+  int sweep_levels = 0;
   std::string honour = "compressive";
   std::string output = "out/calibration";
   std::string name = "calibration";
@@ -126,6 +127,9 @@ int main(int argc, char** argv) {
                  "bound on rho(B) of the DDEM iteration, in (0, 1), default 0.9");
   app.add_option("--nu-p", cl.particle_poisson_ratio, "particle Poisson ratio of the DDEM maps, default 0.45");
   app.add_option("--friction", cl.friction, "friction coefficient mu of broken bonds, default 0.8");
+  app.add_option("--sweep-levels", cl.sweep_levels,
+                 "levels of kt/kn in the map sweep (Rt/Rn and kn/(Ep l): one fewer, at least 3), 3 to 12; "
+                 "default 4 (rigid), 3 (DDEM)");
   app.add_option("--rate-group", cl.rate_group, "loading-rate group V / sqrt(kn/rho), default: run-test's");
   app.add_option("--honour", cl.honour,
                  "strength matched when sigma_c/sigma_t is unreachable: compressive | tensile, default compressive");
@@ -153,6 +157,11 @@ int main(int argc, char** argv) {
     options.particle_poisson_ratio = cl.particle_poisson_ratio;
     options.friction_coefficient = cl.friction;
     if (cl.rate_group != 0.0) options.test.loading_rate_group = cl.rate_group;
+    if (cl.sweep_levels != 0) {
+      if (cl.sweep_levels < 3 || cl.sweep_levels > 12)
+        throw InputError("--sweep-levels = " + std::to_string(cl.sweep_levels) + ", allowed 3 to 12");
+      options.sweep_levels = cl.sweep_levels;
+    }
     std::string error;
     if (!options.IsValid(&error)) throw InputError(error);
     if (!(cl.sweep_fraction > 0.0 && cl.sweep_fraction <= 1.0))

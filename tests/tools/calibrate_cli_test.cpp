@@ -1,6 +1,8 @@
 // The calibrate-to-material command on bad input: exit status, the message names the
 // field, and nothing is written.
 #include <gtest/gtest.h>
+
+#include "tests/tools/command_runner.h"
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -12,21 +14,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status = -1;
-  std::string output;
-};
+using Result = specimen::testing::CommandResult;
 
 Result RunCalibrate(const std::string& arguments) {
-  const std::string command =
-      std::string(SPECIMEN_BINARY_DIR) + "/tools/calibrate-to-material " + arguments + " --quiet 2>&1";
-  Result result;
-  FILE* pipe = popen(command.c_str(), "r");
-  char buffer[4096];
-  while (fgets(buffer, sizeof(buffer), pipe)) result.output += buffer;
-  const int raw = pclose(pipe);
-  result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return result;
+  return specimen::testing::RunProgram("calibrate-to-material", arguments);
 }
 
 fs::path Material(const std::string& name, const std::string& body) {

@@ -1,5 +1,7 @@
 // The generate-packing command as a user runs it: exit status, messages, files.
 #include <gtest/gtest.h>
+
+#include "tests/tools/command_runner.h"
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -14,21 +16,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
+using Result = specimen::testing::CommandResult;
 
 Result RunCommandLine(const std::string& arguments) {
-  const std::string command = std::string(SPECIMEN_BINARY_DIR) + "/tools/generate-packing " +
-                              arguments + " --quiet 2>&1";
-  Result result;
-  FILE* pipe = popen(command.c_str(), "r");
-  char buffer[4096];
-  while (fgets(buffer, sizeof(buffer), pipe)) result.output += buffer;
-  const int raw = pclose(pipe);
-  result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return result;
+  return specimen::testing::RunProgram("generate-packing", arguments);
 }
 
 fs::path FreshDirectory(const std::string& name) {
