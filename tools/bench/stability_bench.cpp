@@ -54,6 +54,7 @@ struct Settings {
   double tolerance = 0.002;
   double growth = 1e6;
   double ep_step_fraction = 0.25;
+  double scan_low = 0.5, scan_high = 1.0, scan_step = 0.01;
   double velocity = 1e-3;
   std::uint64_t seed = 1;
   int threads = 1;
@@ -285,8 +286,25 @@ int Run(const Settings& s) {
     out["measured_unstable"] = high;
     out["ratio"] = predicted / low;
     out["ratio_ritz"] = sharp / low;
+  } else if (s.mode == "scan") {
+    // Bounded or not at fractions of the certified step (non-monotonic cases: impacts).
+    const SceneOptions<Dim> scene = BuildScene<Dim>(s, packing, kn_over_ep);
+    const StabilitySummary summary =
+        AnalyseStability<Dim>(packing, BuildScene<Dim>(s, packing, kn_over_ep, true), options);
+    out["analysis"] = summary.ToJson();
+    out["predicted"] = summary.critical_time_step_s;
+    double lowest_failure = 0.0;
+    for (double fraction = s.scan_high; fraction >= s.scan_low - 1e-12; fraction -= s.scan_step) {
+      std::string failure;
+      const double dt = fraction * summary.critical_time_step_s;
+      const bool ok = Bounded<Dim>(s, packing, scene, dt, &failure);
+      runs.push_back({{"value", dt}, {"fraction", fraction}, {"bounded", ok},
+                      {"failure", failure.substr(0, 160)}});
+      if (!ok) lowest_failure = fraction;
+    }
+    out["lowest_failing_fraction"] = lowest_failure;
   } else {
-    throw InputError("--mode '" + s.mode + "' is not allowed: use dt or ep");
+    throw InputError("--mode '" + s.mode + "' is not allowed: use dt, ep or scan");
   }
   out["runs"] = runs;
   out["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -326,6 +344,8 @@ int main(int argc, char** argv) {
   app.add_option("--tolerance", s.tolerance, "relative width of the final bracket");
   app.add_option("--growth", s.growth, "energy growth factor of the divergence guard");
   app.add_option("--ep-step-fraction", s.ep_step_fraction, "--mode ep: dt / dt_cr(DEM)");
+  app.add_option("--scan", s.scan_low, "--mode scan: lowest fraction of the certified step");
+  app.add_option("--scan-step", s.scan_step, "--mode scan: fraction decrement");
   app.add_option("--velocity", s.velocity, "random initial speed scale [m/s]");
   app.add_option("--seed", s.seed, "seed of the initial velocities");
   app.add_option("--threads", s.threads, "solver threads");
