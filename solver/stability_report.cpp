@@ -107,6 +107,10 @@ std::string StabilitySummary::FullReport() const {
       "  damping factors: dashpots %.4f (the boundary z = -1 with 2c/dt), local damping "
       "%.4f (1/sqrt(1 + alpha)); included above\n",
       dashpot_factor, local_damping_factor);
+  if (unilateral_factor != 1.0)
+    out << Line(
+        "  unilateral wall contacts, weakly damped: x %.3g for impacts (linear limit %.6g s)\n",
+        unilateral_factor, linear_critical_time_step_s);
   out << Line("  critical %.6g s (%s)\n  recommended %.6g s (safety factor %.3g)\n",
               critical_time_step_s, critical_time_step_method.c_str(), recommended_time_step_s,
               safety_factor);
@@ -182,6 +186,9 @@ nlohmann::json StabilitySummary::ToJson() const {
   step["dashpot_factor"] = dashpot_factor;
   step["dashpot_fixed_point_iterations"] = dashpot_fixed_point_iterations;
   step["local_damping_factor"] = local_damping_factor;
+  step["linear_critical_time_step_s"] = Finite(linear_critical_time_step_s);
+  step["unilateral_contacts"] = unilateral_contacts;
+  step["unilateral_factor"] = unilateral_factor;
   step["critical_time_step_s"] = Finite(critical_time_step_s);
   step["method"] = critical_time_step_method;
   step["safety_factor"] = safety_factor;
