@@ -302,7 +302,7 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
   std::string error;
   if (!options.IsValid(&error)) throw InputError("stability analysis: " + error);
   const auto start = std::chrono::steady_clock::now();
-  const LinearisedNetwork<Dim> network(packing, scene);
+  const LinearisedNetwork<Dim> network(packing, scene, options.wall_reach_m);
   const MaterialParameters& material = scene.material;
   StabilitySummary s;
 

@@ -100,6 +100,10 @@ struct StabilityOptions {
   // certified bound allows for the inexact products (10 tau / (1 - rho(B)) relative).
   double inner_tolerance = 1e-6;
   int inner_max_iterations = 20000;
+  // Particles whose gap to a wall is below this are linked to it [m]; < 0: those within
+  // contacts.bond_gap_tolerance x R (touching). The Simulation passes its search skin (the
+  // particles a wall may touch, as its per-particle bound counts them).
+  double wall_reach_m = -1.0;
   // nu_p values of the sweep of the admissible kn/(Ep l), each in (-1, 0.5); empty: no sweep.
   std::vector<double> sweep_poisson_ratios;
   // The mode shape of omega_max (its most moving particle). Costs one more Lanczos pass when

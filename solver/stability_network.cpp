@@ -39,7 +39,7 @@ inline Vector<3> RotationCross(const Vector<3>& theta, const Vector<3>& s) {
 
 template <int Dim>
 LinearisedNetwork<Dim>::LinearisedNetwork(const Packing<Dim>& packing,
-                                          const SceneOptions<Dim>& scene) {
+                                          const SceneOptions<Dim>& scene, double wall_reach_m) {
   std::string error;
   if (!scene.IsValid(&error)) throw InputError(error);
   num_threads_ = scene.num_threads;
@@ -91,11 +91,12 @@ LinearisedNetwork<Dim>::LinearisedNetwork(const Packing<Dim>& packing,
   SceneOptions<Dim> sorted_scene = scene;
   for (FixedDofs<Dim>& fixed : sorted_scene.fixed_dofs)
     for (int& p : fixed.particles) p = internal[p];
-  Build(sorted, sorted_scene);
+  Build(sorted, sorted_scene, wall_reach_m);
 }
 
 template <int Dim>
-void LinearisedNetwork<Dim>::Build(const Packing<Dim>& packing, const SceneOptions<Dim>& scene) {
+void LinearisedNetwork<Dim>::Build(const Packing<Dim>& packing, const SceneOptions<Dim>& scene,
+                                   double wall_reach_m) {
   const MaterialParameters& material = scene.material;
 
   // 1. Particles: radius, mass, volume.
@@ -154,7 +155,7 @@ void LinearisedNetwork<Dim>::Build(const Packing<Dim>& packing, const SceneOptio
     }
     for (int p = 0; p < count; ++p) {
       const double gap = (packing.centres[p] - wall.point).dot(normal) - radius_[p];
-      if (gap > tolerance * radius_[p]) continue;
+      if (wall_reach_m >= 0.0 ? gap >= wall_reach_m : gap > tolerance * radius_[p]) continue;
       if (node >= 0) wall_node_links_[node].push_back(link_count());
       // The contact normal points from the particle to the wall.
       add_link(p, node >= 0 ? -2 - node : -1, -normal, wall.normal_stiffness_n_per_m, wall_kt);

@@ -2,6 +2,7 @@
 // JSON keys, the files, the exit statuses and the messages for bad input (no file written).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -33,8 +34,10 @@ Result StabilityLimit(const std::string& arguments) {
                  " --quiet");
 }
 
+// Per process: ctest runs the tests of this suite as parallel processes.
 fs::path FreshDirectory(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("specimen_stability_cli_" + name);
+  const fs::path dir = fs::temp_directory_path() / ("specimen_stability_cli_" + name + "_" +
+                                                    std::to_string(getpid()));
   fs::remove_all(dir);
   return dir;
 }

@@ -83,6 +83,7 @@ SceneOptions<Dim> BuildScene(const Settings& s, const Packing<Dim>& packing, dou
   scene.num_threads = s.threads;
   scene.divergence.energy_growth_factor = s.growth;
   scene.time_step.allow_above_critical = true;
+  scene.time_step.from_stability_analysis = false;  // the step is given; no analysis per run
   if (!s.walls.empty()) {
     Vector<Dim> lower = packing.centres[0], upper = packing.centres[0];
     for (int p = 0; p < packing.size(); ++p)
