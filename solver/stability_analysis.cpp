@@ -83,9 +83,52 @@ class BoundaryOperator {
   }
 
   void Apply(const std::vector<double>& x, std::vector<double>& y) {
-    Forward(x, y);
-    if (symmetric_) return;
-    Transposed(x, transposed_);
+    if (symmetric_) {
+      Forward(x, y);
+      return;
+    }
+    // (H x + H^T x) / 2, the two inner solves side by side (one pass over the network for
+    // both right-hand sides).
+    const int links = network_.link_count();
+    const bool tangential = network_.has_tangential();
+    network_.LinkKinematics(x, &raw_normal_, tangential ? &raw_tangential_ : nullptr);
+    if (!tangential) raw_tangential_.clear();
+    // Forward: f_t = K*_t d_t; (I - B) f_n = K*_n g + kn N^T eps(f_t); solved for
+    // w = K^-1/2 f_n from K^-1/2 times the right-hand side.
+    std::vector<double>& g = g_;
+    std::vector<Vector<Dim>>& t = t_;
+    g.resize(links);
+    t.resize(raw_tangential_.size());
+    for (int c = 0; c < links; ++c) g[c] = raw_normal_[c] * normal_[c];
+    for (size_t c = 0; c < t.size(); ++c) t[c] = raw_tangential_[c] * tangential_[c];
+    if (tangential) {
+      zeros_.assign(links, 0.0);
+      network_.StrainOfLinkForces(*compliance_, zeros_, t, &strain_);
+      network_.NormalDisplacementOfStrain(strain_, &correction_);
+      for (int c = 0; c < links; ++c) g[c] += network_.normal_stiffness(c) * correction_[c];
+    }
+    for (int c = 0; c < links; ++c) g[c] /= root_kn_[c];
+    // Transposed: (I - S) w' = K^1/2 g_raw.
+    rhs_transposed_.resize(links);
+    for (int c = 0; c < links; ++c) rhs_transposed_[c] = raw_normal_[c] * root_kn_[c];
+    SolvePair(g, rhs_transposed_, &w_, &w_transposed_);
+    // Forward: y = M^-1/2 C^T f.
+    for (int c = 0; c < links; ++c) g[c] = w_[c] * root_kn_[c];
+    network_.GatherLinkForces(g, t, y);
+    // Transposed: f_n = K*_n z, f_t = K*_t (d_t + S_t^T eps(kn z)), z = K^-1/2 w'.
+    std::vector<double>& normal = correction_;
+    normal.resize(links);
+    for (int c = 0; c < links; ++c) {
+      normal[c] = normal_[c] * w_transposed_[c] / root_kn_[c];
+      w_transposed_[c] *= root_kn_[c];
+    }
+    if (tangential) {
+      network_.StrainOfLinkForces(*compliance_, w_transposed_, {}, &strain_);
+      network_.TangentialDisplacementOfStrain(strain_, &tangential_correction_);
+      for (int c = 0; c < links; ++c)
+        t[c] = tangential_[c] * (raw_tangential_[c] + tangential_correction_[c]);
+    }
+    network_.GatherLinkForces(normal, t, transposed_);
     for (size_t k = 0; k < y.size(); ++k) y[k] = 0.5 * (y[k] + transposed_[k]);
   }
   long inner_iterations() const { return inner_iterations_; }
@@ -107,6 +150,33 @@ class BoundaryOperator {
           Number(options_.inner_tolerance) + " in " + std::to_string(result.iterations) +
           " iterations (residual " + Number(result.relative_residual) +
           "); rho(B) is too close to 1");
+  }
+
+  // Both systems (I - S) w1 = r1, (I - S) w2 = r2 at once.
+  void SolvePair(const std::vector<double>& r1, const std::vector<double>& r2,
+                 std::vector<double>* w1, std::vector<double>* w2) {
+    const SymmetricOperatorPair i_minus_s = [&](const std::vector<double>& v1,
+                                                const std::vector<double>& v2,
+                                                std::vector<double>& out1,
+                                                std::vector<double>& out2) {
+      network_.ApplyDdemOperatorPair(*compliance_, v1, v2, out1, out2);
+      for (size_t k = 0; k < v1.size(); ++k) {
+        out1[k] = v1[k] - out1[k];
+        out2[k] = v2[k] - out2[k];
+      }
+    };
+    const std::array<ConjugateGradientResult, 2> results =
+        ConjugateGradientPair(i_minus_s, r1, r2, options_.inner_tolerance,
+                              options_.inner_max_iterations, w1, w2, &pair_workspace_);
+    for (const ConjugateGradientResult& result : results) {
+      inner_iterations_ += result.iterations;
+      if (!result.converged)
+        throw ComputationError(
+            "DDEM time step: the inner solve (I - S) w = r did not reach the relative residual " +
+            Number(options_.inner_tolerance) + " in " + std::to_string(result.iterations) +
+            " iterations (residual " + Number(result.relative_residual) +
+            "); rho(B) is too close to 1");
+    }
   }
 
   // f_t = K*_t d_t; (I - B) f_n = K*_n g + kn N^T eps(f_t); y = M^-1/2 C^T f.
@@ -135,32 +205,6 @@ class BoundaryOperator {
     network_.GatherLinkForces(g, t, y);
   }
 
-  // The transpose: (I - B^T) z = g; f_n = K*_n z; f_t = K*_t (d_t + S_t^T eps(kn z)).
-  void Transposed(const std::vector<double>& x, std::vector<double>& y) {
-    const int links = network_.link_count();
-    const bool tangential = network_.has_tangential();
-    std::vector<double>& g = g_;
-    std::vector<Vector<Dim>>& t = t_;
-    network_.LinkKinematics(x, &g, tangential ? &t : nullptr);
-    if (!tangential) t.clear();
-    // w = K^1/2 z solves (I - S) w = K^1/2 g.
-    for (int c = 0; c < links; ++c) g[c] *= root_kn_[c];
-    std::vector<double>& w = w_;
-    Solve(g, &w);
-    std::vector<double>& normal = correction_;
-    normal.resize(links);
-    for (int c = 0; c < links; ++c) {
-      normal[c] = normal_[c] * w[c] / root_kn_[c];  // K*_n z
-      w[c] *= root_kn_[c];                          // kn z
-    }
-    if (tangential) {
-      network_.StrainOfLinkForces(*compliance_, w, {}, &strain_);
-      network_.TangentialDisplacementOfStrain(strain_, &tangential_correction_);
-      for (int c = 0; c < links; ++c) t[c] = tangential_[c] * (t[c] + tangential_correction_[c]);
-    }
-    network_.GatherLinkForces(normal, t, y);
-  }
-
   const LinearisedNetwork<Dim>& network_;
   const ParticleCompliance<Dim>* compliance_;
   const StabilityOptions& options_;
@@ -169,9 +213,11 @@ class BoundaryOperator {
   long inner_iterations_ = 0;
   // Work vectors kept between products (no allocation in the Lanczos loop).
   std::vector<double> g_, w_, zeros_, correction_, transposed_;
-  std::vector<Vector<Dim>> t_, tangential_correction_;
+  std::vector<double> raw_normal_, rhs_transposed_, w_transposed_;
+  std::vector<Vector<Dim>> t_, tangential_correction_, raw_tangential_;
   std::vector<SymmetricTensor<Dim>> strain_;
   ConjugateGradientWorkspace workspace_;
+  ConjugateGradientPairWorkspace pair_workspace_;
 };
 
 // The certified critical step of the boundary operator: undamped 2/sqrt(lambda_max(H)) (the

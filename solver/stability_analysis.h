@@ -95,10 +95,10 @@ struct StabilityOptions {
   LanczosOptions lanczos;
   // Relative tolerance of the certificate of the DDEM step (each iteration needs an inner
   // solve), in (0, 0.5).
-  double ddem_relative_tolerance = 0.02;
+  double ddem_relative_tolerance = 0.03;
   // Inner solves (I - S) w = r of the DDEM step: relative residual, iteration cap. The
   // certified bound allows for the inexact products (10 tau / (1 - rho(B)) relative).
-  double inner_tolerance = 1e-6;
+  double inner_tolerance = 1e-5;
   int inner_max_iterations = 20000;
   // Particles whose gap to a wall is below this are linked to it [m]; < 0: those within
   // contacts.bond_gap_tolerance x R (touching). The Simulation passes its search skin (the

@@ -127,6 +127,12 @@ class LinearisedNetwork {
   void ApplyDdemOperator(const ParticleCompliance<Dim>& unit_compliance,
                          const std::vector<double>& x, std::vector<double>& y) const;
 
+  // The same on two vectors at once (one pass over the network for both: the products are
+  // memory-bound), y1 = S x1, y2 = S x2.
+  void ApplyDdemOperatorPair(const ParticleCompliance<Dim>& unit_compliance,
+                             const std::vector<double>& x1, const std::vector<double>& x2,
+                             std::vector<double>& y1, std::vector<double>& y2) const;
+
   void set_num_threads(int threads) { num_threads_ = std::max(1, threads); }
 
  private:
@@ -163,7 +169,7 @@ class LinearisedNetwork {
   mutable std::vector<double> scratch_normal_, scratch_force_;
   mutable std::vector<Vector<Dim>> scratch_tangential_, scratch_motion_;
   mutable std::vector<Angular<Dim>> scratch_spin_;
-  mutable std::vector<SymmetricTensor<Dim>> scratch_strain_;
+  mutable std::vector<SymmetricTensor<Dim>> scratch_strain_, scratch_strain2_;
 };
 
 }  // namespace specimen
