@@ -625,6 +625,11 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
     }
     row.lattice = ClosedFormLimits(Dim, nu, material.plane_model);
     s.sweep.push_back(row);
+    if (row.admissible_kn_over_ep > s.sweep_largest_kn_over_ep) {
+      s.sweep_largest_kn_over_ep = row.admissible_kn_over_ep;
+      s.sweep_largest_recommended_kn_over_ep = row.recommended_kn_over_ep;
+      s.sweep_largest_poisson_ratio = nu;
+    }
   }
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;

@@ -48,7 +48,8 @@
 // 4. Verdict for the proposed (or the recommended) time step: unstable beyond a limit,
 //    marginal within time_step_margin of dt_cr or with rho(B) above max_spectral_radius,
 //    stable otherwise; the binding limit and its margin in per cent.
-// 5. Optionally, the admissible kn/(Ep l) against nu_p for the packing (a sweep).
+// 5. Optionally, the admissible kn/(Ep l) against nu_p for the packing (a sweep), and its
+//    largest value with its nu_p (the softest particles the packing allows, for any kn).
 //
 // What the linear analysis leaves out (reported as warnings, see the benchmark):
 //  - DDEM with kt > 0 is not conservative: undamped runs grow slowly (flutter) at any step;
@@ -215,6 +216,11 @@ struct StabilitySummary {
   double spectral_radius_margin_percent = 0.0;  // 100 (1 - rho(B)), deformable only
 
   std::vector<SweepRow> sweep;
+  // The largest admissible kn/(Ep l) of the sweep (at rho(B) = 1 and at
+  // max_spectral_radius) and its nu_p: the softest particles the packing allows, for any
+  // kn (an Ep-free choice). 0 without a sweep.
+  double sweep_largest_kn_over_ep = 0.0, sweep_largest_recommended_kn_over_ep = 0.0;
+  double sweep_largest_poisson_ratio = 0.0;
   // What the linear analysis does not cover in this scene (each one sentence).
   std::vector<std::string> warnings;
   double seconds = 0.0;

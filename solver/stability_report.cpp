@@ -134,6 +134,11 @@ std::string StabilitySummary::FullReport() const {
       out << Line("  %-7.4g  %-10.5g  %-11.5g  %-7.4f  %-7.4f  %-7.4f\n", r.poisson_ratio,
                   r.admissible_kn_over_ep, r.recommended_kn_over_ep, r.lattice.row,
                   r.lattice.square, r.lattice.hexagonal);
+    out << Line(
+        "  largest: kn/(Ep %s) %.5g at nu_p = %.4g (%.5g at rho(B) = %.4g): the softest "
+        "particles this packing allows\n",
+        length, sweep_largest_kn_over_ep, sweep_largest_poisson_ratio,
+        sweep_largest_recommended_kn_over_ep, max_spectral_radius);
   }
   for (const std::string& warning : warnings) out << "\nwarning: " << warning << "\n";
   out << Line("\nVerdict for the %s time step %.6g s: %s\n",
@@ -217,6 +222,9 @@ nlohmann::json StabilitySummary::ToJson() const {
       {"spectral_radius_margin_percent",
        deformable ? nlohmann::json(spectral_radius_margin_percent) : nlohmann::json(nullptr)},
       {"message", verdict_message}};
+  j["sweep_largest"] = {{"poisson_ratio", sweep_largest_poisson_ratio},
+                        {"admissible_kn_over_ep", sweep_largest_kn_over_ep},
+                        {"recommended_kn_over_ep", sweep_largest_recommended_kn_over_ep}};
   j["sweep"] = nlohmann::json::array();
   for (const SweepRow& r : sweep)
     j["sweep"].push_back({{"poisson_ratio", r.poisson_ratio},
