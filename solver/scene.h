@@ -23,8 +23,8 @@ struct TimeStepOptions {
   // Time step [s], > 0; 0: safety_factor x the critical time step.
   double time_step_s = 0.0;
   // Fraction of the critical time step used when time_step_s = 0, in (0, 1]. The default
-  // 0.7 is below 1/sqrt(2), where the per-particle bound is provably stable (time_step.h).
-  // DDEM scenes further multiply by the strain-lag factor of time_step.h.
+  // 0.7 is below 1/sqrt(2), where even the per-particle bound is provably stable
+  // (time_step.h; DDEM scenes on that bound further multiply by its strain-lag factor).
   double safety_factor = 0.7;
   // Accept a time_step_s above the critical time step (stability studies). Without it such
   // a step is refused with an InputError naming the limit.
@@ -32,13 +32,14 @@ struct TimeStepOptions {
   // The critical time step [s] from a sharper analysis (the stability-limit stage); 0: use
   // the per-particle bound of Madan (2.18).
   double critical_time_step_s = 0.0;
-  // Take the critical time step from the stability analysis (stability_analysis.h): the
-  // certified 2/omega_max of the assembled network, with the DDEM strain lag and the
-  // dashpots at the stability boundary, instead of the per-particle bound (the default step
-  // is then safety_factor x that, without the strain-lag factor). A DDEM scene whose force
-  // iteration does not converge, rho(B) >= max_spectral_radius, is refused with an
-  // InputError naming rho(B) and the admissible kn/(Ep l), unless allow_above_critical.
-  bool from_stability_analysis = false;
+  // Take the critical time step from the stability analysis (stability_analysis.h, the
+  // default): the certified 2/omega_max of the assembled network, with the DDEM strain lag,
+  // the dashpots at the stability boundary and the walls within the search skin; false: the
+  // per-particle bound of time_step.h (cheaper, not a bound for irregular packings). The
+  // default step is safety_factor x the critical one. A DDEM scene whose force iteration
+  // does not converge, rho(B) >= max_spectral_radius, is refused with an InputError naming
+  // rho(B) and the admissible kn/(Ep l), unless allow_above_critical.
+  bool from_stability_analysis = true;
   // The largest rho(B) accepted with from_stability_analysis, in (0, 1].
   double max_spectral_radius = 1.0;
 };

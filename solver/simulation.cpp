@@ -268,6 +268,7 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
     // DDEM strain lag, so no separate lag factor; and the DDEM convergence check.
     StabilityOptions stability;
     stability.locate_mode = false;
+    stability.wall_reach_m = s.search_skin_m;
     stability.max_spectral_radius = options.time_step.max_spectral_radius;
     const StabilitySummary analysis = AnalyseStability<Dim>(packing, options, stability);
     if (analysis.deformable &&

@@ -107,6 +107,9 @@ LanczosResult LargestEigenvalue(int n, const SymmetricOperator& apply,
 
   // 2. The recurrence.
   std::vector<std::vector<double>> basis;
+  const bool store_single = options.compute_ritz_vector && !reorthogonalise &&
+                            static_cast<long long>(n) * steps_cap <= options.ritz_storage_budget;
+  std::vector<std::vector<float>> single_basis;
   std::vector<double> v = RandomUnitVector(n, options.seed), v_previous(n, 0.0), w(n);
   const std::vector<double> start = v;
   std::vector<double> alpha, beta;  // beta[j] couples v_j and v_{j+1}
@@ -114,6 +117,7 @@ LanczosResult LargestEigenvalue(int n, const SymmetricOperator& apply,
   bool invariant = false;
   for (int j = 0; j < steps_cap; ++j) {
     if (reorthogonalise) basis.push_back(v);
+    if (store_single) single_basis.emplace_back(v.begin(), v.end());
     apply(v, w);
     const double applied_norm = std::sqrt(Dot(w, w));
     const double a = Dot(v, w);
@@ -183,6 +187,12 @@ LanczosResult LargestEigenvalue(int n, const SymmetricOperator& apply,
     std::vector<double> y(n, 0.0);
     if (reorthogonalise) {
       for (int j = 0; j < k; ++j) Axpy(s[j], basis[j], y);
+    } else if (store_single) {
+      for (int j = 0; j < k; ++j) {
+        const float* q = single_basis[j].data();
+        const double c = s[j];
+        for (int i = 0; i < n; ++i) y[i] += c * q[i];
+      }
     } else {
       // Second pass: the same recurrence with the stored coefficients.
       std::vector<double> q = start, q_previous(n, 0.0), z(n);
@@ -245,6 +255,63 @@ ConjugateGradientResult ConjugateGradient(const SymmetricOperator& apply,
     const double ratio = rr_new / rr;
     for (int i = 0; i < n; ++i) p[i] = r[i] + ratio * p[i];
     rr = rr_new;
+  }
+  return result;
+}
+
+std::array<ConjugateGradientResult, 2> ConjugateGradientPair(
+    const SymmetricOperatorPair& apply_pair, const std::vector<double>& b1,
+    const std::vector<double>& b2, double relative_tolerance, int max_iterations,
+    std::vector<double>* x1, std::vector<double>* x2, ConjugateGradientPairWorkspace* workspace) {
+  std::array<ConjugateGradientResult, 2> result;
+  ConjugateGradientPairWorkspace local;
+  ConjugateGradientPairWorkspace& work = workspace ? *workspace : local;
+  const std::vector<double>* b[2] = {&b1, &b2};
+  std::vector<double>* x[2] = {x1, x2};
+  ConjugateGradientWorkspace* w[2] = {&work.first, &work.second};
+  double rr[2], target[2], b_norm[2];
+  bool active[2];
+  for (int k = 0; k < 2; ++k) {
+    const int n = static_cast<int>(b[k]->size());
+    x[k]->assign(n, 0.0);
+    b_norm[k] = std::sqrt(Dot(*b[k], *b[k]));
+    active[k] = b_norm[k] > 0.0;
+    result[k].converged = !active[k];
+    w[k]->residual = *b[k];
+    w[k]->direction = *b[k];
+    w[k]->product.resize(n);
+    rr[k] = b_norm[k] * b_norm[k];
+    target[k] = relative_tolerance * relative_tolerance * rr[k];
+  }
+  for (int iteration = 1; iteration <= max_iterations && (active[0] || active[1]); ++iteration) {
+    // Converged systems ride along (their products are not used).
+    apply_pair(w[0]->direction, w[1]->direction, w[0]->product, w[1]->product);
+    for (int k = 0; k < 2; ++k) {
+      if (!active[k]) continue;
+      std::vector<double>& r = w[k]->residual;
+      std::vector<double>& p = w[k]->direction;
+      const std::vector<double>& q = w[k]->product;
+      const double pq = Dot(p, q);
+      if (!(pq > 0.0)) {
+        active[k] = false;  // not positive definite (or breakdown): not converged
+        continue;
+      }
+      const double step = rr[k] / pq;
+      Axpy(step, p, *x[k]);
+      Axpy(-step, q, r);
+      const double rr_new = Dot(r, r);
+      result[k].iterations = iteration;
+      result[k].relative_residual = std::sqrt(rr_new) / b_norm[k];
+      if (rr_new <= target[k]) {
+        result[k].converged = true;
+        active[k] = false;
+        continue;
+      }
+      const double ratio = rr_new / rr[k];
+      const size_t n = r.size();
+      for (size_t i = 0; i < n; ++i) p[i] = r[i] + ratio * p[i];
+      rr[k] = rr_new;
+    }
   }
   return result;
 }

@@ -27,6 +27,7 @@
 //    of theta (it says how converged the top mode is; the certificate does not rely on it).
 // Also: conjugate gradients for the symmetric positive definite inner solves.
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -53,8 +54,11 @@ struct LanczosOptions {
   long long reorthogonalisation_budget = 2'000'000;
   // Up to this dimension the iteration runs n steps (reorthogonalised): the result is exact.
   int exact_dimension = 600;
-  // Return the Ritz vector of the largest Ritz value (a second pass without reorthogonalisation).
+  // Return the Ritz vector of the largest Ritz value. Without reorthogonalisation the Lanczos
+  // vectors are kept in single precision when n x steps does not exceed
+  // `ritz_storage_budget` (the vector only locates the mode), else a second pass forms it.
   bool compute_ritz_vector = false;
+  long long ritz_storage_budget = 64'000'000;
   ProgressCallback progress;  // may be empty
   std::string progress_label = "Lanczos";
 
@@ -102,5 +106,19 @@ ConjugateGradientResult ConjugateGradient(const SymmetricOperator& apply,
                                           const std::vector<double>& b, double relative_tolerance,
                                           int max_iterations, std::vector<double>* x,
                                           ConjugateGradientWorkspace* workspace = nullptr);
+
+// Two independent systems A x1 = b1, A x2 = b2 solved side by side (the same iterates as two
+// ConjugateGradient calls), with `apply_pair` forming both products in one pass. Each stops
+// at its own tolerance; the iteration count is the larger one.
+using SymmetricOperatorPair =
+    std::function<void(const std::vector<double>& x1, const std::vector<double>& x2,
+                       std::vector<double>& y1, std::vector<double>& y2)>;
+struct ConjugateGradientPairWorkspace {
+  ConjugateGradientWorkspace first, second;
+};
+std::array<ConjugateGradientResult, 2> ConjugateGradientPair(
+    const SymmetricOperatorPair& apply_pair, const std::vector<double>& b1,
+    const std::vector<double>& b2, double relative_tolerance, int max_iterations,
+    std::vector<double>* x1, std::vector<double>* x2, ConjugateGradientPairWorkspace* workspace);
 
 }  // namespace specimen

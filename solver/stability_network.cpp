@@ -39,7 +39,7 @@ inline Vector<3> RotationCross(const Vector<3>& theta, const Vector<3>& s) {
 
 template <int Dim>
 LinearisedNetwork<Dim>::LinearisedNetwork(const Packing<Dim>& packing,
-                                          const SceneOptions<Dim>& scene) {
+                                          const SceneOptions<Dim>& scene, double wall_reach_m) {
   std::string error;
   if (!scene.IsValid(&error)) throw InputError(error);
   num_threads_ = scene.num_threads;
@@ -91,11 +91,12 @@ LinearisedNetwork<Dim>::LinearisedNetwork(const Packing<Dim>& packing,
   SceneOptions<Dim> sorted_scene = scene;
   for (FixedDofs<Dim>& fixed : sorted_scene.fixed_dofs)
     for (int& p : fixed.particles) p = internal[p];
-  Build(sorted, sorted_scene);
+  Build(sorted, sorted_scene, wall_reach_m);
 }
 
 template <int Dim>
-void LinearisedNetwork<Dim>::Build(const Packing<Dim>& packing, const SceneOptions<Dim>& scene) {
+void LinearisedNetwork<Dim>::Build(const Packing<Dim>& packing, const SceneOptions<Dim>& scene,
+                                   double wall_reach_m) {
   const MaterialParameters& material = scene.material;
 
   // 1. Particles: radius, mass, volume.
@@ -154,7 +155,7 @@ void LinearisedNetwork<Dim>::Build(const Packing<Dim>& packing, const SceneOptio
     }
     for (int p = 0; p < count; ++p) {
       const double gap = (packing.centres[p] - wall.point).dot(normal) - radius_[p];
-      if (gap > tolerance * radius_[p]) continue;
+      if (wall_reach_m >= 0.0 ? gap >= wall_reach_m : gap > tolerance * radius_[p]) continue;
       if (node >= 0) wall_node_links_[node].push_back(link_count());
       // The contact normal points from the particle to the wall.
       add_link(p, node >= 0 ? -2 - node : -1, -normal, wall.normal_stiffness_n_per_m, wall_kt);
@@ -543,6 +544,52 @@ void LinearisedNetwork<Dim>::ApplyDdemOperator(const ParticleCompliance<Dim>& un
   StrainOfLinkForces(unit_compliance, force, {}, &scratch_strain_);
   NormalDisplacementOfStrain(scratch_strain_, &y);
   for (int c = 0; c < links; ++c) y[c] *= link_root_kn_[c];
+}
+
+template <int Dim>
+void LinearisedNetwork<Dim>::ApplyDdemOperatorPair(const ParticleCompliance<Dim>& unit_compliance,
+                                                   const std::vector<double>& x1,
+                                                   const std::vector<double>& x2,
+                                                   std::vector<double>& y1,
+                                                   std::vector<double>& y2) const {
+  const int links = link_count(), count = particle_count();
+  std::vector<SymmetricTensor<Dim>>& strain1 = scratch_strain_;
+  std::vector<SymmetricTensor<Dim>>& strain2 = scratch_strain2_;
+  strain1.resize(count);
+  strain2.resize(count);
+  const Vector<Dim>* const normals = link_normal_.data();
+  const double* const root_kn = link_root_kn_.data();
+  const int* const offset = adjacency_offset_.data();
+  const int* const entry = adjacency_entry_.data();
+  // As StrainOfLinkForces with f = sqrt(kn) x, normal forces only, for both vectors.
+#pragma omp parallel for if (count >= kParallelItems) num_threads(num_threads_) schedule(static)
+  for (int p = 0; p < count; ++p) {
+    SymmetricTensor<Dim> sum1 = SymmetricTensor<Dim>::Zero(), sum2 = SymmetricTensor<Dim>::Zero();
+    for (int e = offset[p]; e < offset[p + 1]; ++e) {
+      const int c = entry[e] >> 1;
+      const SymmetricTensor<Dim> nn = SymmetricOuter(normals[c], normals[c]);
+      sum1 += (root_kn[c] * x1[c]) * nn;
+      sum2 += (root_kn[c] * x2[c]) * nn;
+    }
+    const double scale = radius_[p] / volume_[p];
+    strain1[p] = unit_compliance.Strain(sum1 * scale);
+    strain2[p] = unit_compliance.Strain(sum2 * scale);
+  }
+  y1.resize(links);
+  y2.resize(links);
+#pragma omp parallel for if (links >= kParallelItems) num_threads(num_threads_) schedule(static)
+  for (int c = 0; c < links; ++c) {
+    const int i = link_i_[c], j = link_j_[c];
+    const Vector<Dim>& n = normals[c];
+    double sum1 = radius_[i] * QuadraticForm(strain1[i], n);
+    double sum2 = radius_[i] * QuadraticForm(strain2[i], n);
+    if (j >= 0) {
+      sum1 += radius_[j] * QuadraticForm(strain1[j], n);
+      sum2 += radius_[j] * QuadraticForm(strain2[j], n);
+    }
+    y1[c] = root_kn[c] * sum1;
+    y2[c] = root_kn[c] * sum2;
+  }
 }
 
 template class LinearisedNetwork<2>;

@@ -16,7 +16,8 @@
 //    leaving out a spring can only lower omega_max and rho(B) (Weyl monotonicity: every link
 //    adds a positive semi-definite term), so counting it is on the safe side;
 //  - particle-wall contacts: particles whose gap to a wall plane is at most
-//    contacts.bond_gap_tolerance x R (touching or nearly), normal stiffness k_wall, tangential
+//    contacts.bond_gap_tolerance x R (touching or nearly; or below a given reach: the
+//    Simulation passes its search skin, the walls' candidates), normal stiffness k_wall, tangential
 //    k_t,wall for walls with friction (the solver's wall law has no tangential spring
 //    otherwise); a velocity-driven wall is ground, a force-driven wall a degree of freedom;
 //  - a particle left without any link (a rattler) gets one to its nearest neighbour within
@@ -53,7 +54,10 @@ class LinearisedNetwork {
 
   // Throws InputError (naming the item) for an invalid scene or packing: indices out of range,
   // a contact joining a particle to itself or two particles with the same centre.
-  LinearisedNetwork(const Packing<Dim>& packing, const SceneOptions<Dim>& scene);
+  // wall_reach_m >= 0: particles within this gap of a wall are linked to it (the solver's
+  // wall candidates: the search skin); < 0: within contacts.bond_gap_tolerance x R.
+  LinearisedNetwork(const Packing<Dim>& packing, const SceneOptions<Dim>& scene,
+                    double wall_reach_m = -1.0);
 
   // --- Sizes and facts ---
   int dof_count() const { return dof_count_; }
@@ -123,10 +127,17 @@ class LinearisedNetwork {
   void ApplyDdemOperator(const ParticleCompliance<Dim>& unit_compliance,
                          const std::vector<double>& x, std::vector<double>& y) const;
 
+  // The same on two vectors at once (one pass over the network for both: the products are
+  // memory-bound), y1 = S x1, y2 = S x2.
+  void ApplyDdemOperatorPair(const ParticleCompliance<Dim>& unit_compliance,
+                             const std::vector<double>& x1, const std::vector<double>& x2,
+                             std::vector<double>& y1, std::vector<double>& y2) const;
+
   void set_num_threads(int threads) { num_threads_ = std::max(1, threads); }
 
  private:
-  void Build(const Packing<Dim>& sorted_packing, const SceneOptions<Dim>& sorted_scene);
+  void Build(const Packing<Dim>& sorted_packing, const SceneOptions<Dim>& sorted_scene,
+             double wall_reach_m);
   void BuildAdjacency();
   int internal_index(int particle) const { return internal_index_[particle]; }
 
@@ -158,7 +169,7 @@ class LinearisedNetwork {
   mutable std::vector<double> scratch_normal_, scratch_force_;
   mutable std::vector<Vector<Dim>> scratch_tangential_, scratch_motion_;
   mutable std::vector<Angular<Dim>> scratch_spin_;
-  mutable std::vector<SymmetricTensor<Dim>> scratch_strain_;
+  mutable std::vector<SymmetricTensor<Dim>> scratch_strain_, scratch_strain2_;
 };
 
 }  // namespace specimen

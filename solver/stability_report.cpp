@@ -107,6 +107,10 @@ std::string StabilitySummary::FullReport() const {
       "  damping factors: dashpots %.4f (the boundary z = -1 with 2c/dt), local damping "
       "%.4f (1/sqrt(1 + alpha)); included above\n",
       dashpot_factor, local_damping_factor);
+  if (unilateral_factor != 1.0)
+    out << Line(
+        "  unilateral wall contacts, weakly damped: x %.3g for impacts (linear limit %.6g s)\n",
+        unilateral_factor, linear_critical_time_step_s);
   out << Line("  critical %.6g s (%s)\n  recommended %.6g s (safety factor %.3g)\n",
               critical_time_step_s, critical_time_step_method.c_str(), recommended_time_step_s,
               safety_factor);
@@ -130,6 +134,11 @@ std::string StabilitySummary::FullReport() const {
       out << Line("  %-7.4g  %-10.5g  %-11.5g  %-7.4f  %-7.4f  %-7.4f\n", r.poisson_ratio,
                   r.admissible_kn_over_ep, r.recommended_kn_over_ep, r.lattice.row,
                   r.lattice.square, r.lattice.hexagonal);
+    out << Line(
+        "  largest: kn/(Ep %s) %.5g at nu_p = %.4g (%.5g at rho(B) = %.4g): the softest "
+        "particles this packing allows\n",
+        length, sweep_largest_kn_over_ep, sweep_largest_poisson_ratio,
+        sweep_largest_recommended_kn_over_ep, max_spectral_radius);
   }
   for (const std::string& warning : warnings) out << "\nwarning: " << warning << "\n";
   out << Line("\nVerdict for the %s time step %.6g s: %s\n",
@@ -182,6 +191,9 @@ nlohmann::json StabilitySummary::ToJson() const {
   step["dashpot_factor"] = dashpot_factor;
   step["dashpot_fixed_point_iterations"] = dashpot_fixed_point_iterations;
   step["local_damping_factor"] = local_damping_factor;
+  step["linear_critical_time_step_s"] = Finite(linear_critical_time_step_s);
+  step["unilateral_contacts"] = unilateral_contacts;
+  step["unilateral_factor"] = unilateral_factor;
   step["critical_time_step_s"] = Finite(critical_time_step_s);
   step["method"] = critical_time_step_method;
   step["safety_factor"] = safety_factor;
@@ -210,6 +222,9 @@ nlohmann::json StabilitySummary::ToJson() const {
       {"spectral_radius_margin_percent",
        deformable ? nlohmann::json(spectral_radius_margin_percent) : nlohmann::json(nullptr)},
       {"message", verdict_message}};
+  j["sweep_largest"] = {{"poisson_ratio", sweep_largest_poisson_ratio},
+                        {"admissible_kn_over_ep", sweep_largest_kn_over_ep},
+                        {"recommended_kn_over_ep", sweep_largest_recommended_kn_over_ep}};
   j["sweep"] = nlohmann::json::array();
   for (const SweepRow& r : sweep)
     j["sweep"].push_back({{"poisson_ratio", r.poisson_ratio},

@@ -40,10 +40,11 @@
 // beta_est = max over contacts of kn lambda_max(D) sum_p R_p^2 / V_p (walls: k_wall, one
 // particle), an upper estimate of beta (lambda_max(D) >= n.D.n).
 //
-// The sharp estimate (power iteration on the assembled system, with the DDEM iteration
-// matrix) belongs to the stability-limit stage; its value can be passed in as
-// TimeStepOptions::critical_time_step_s, or taken by the Simulation itself with
-// TimeStepOptions::from_stability_analysis (stability_analysis.h). Note: the dashpot factor
+// The sharp estimate (Lanczos on the assembled system, with the DDEM iteration matrix) is
+// the stability analysis (stability_analysis.h), which the Simulation uses by default
+// (TimeStepOptions::from_stability_analysis); this bound is its fallback when that is off,
+// and the analysis reports it for comparison. A value can also be passed in as
+// TimeStepOptions::critical_time_step_s. Note: the dashpot factor
 // above is exact for one degree of freedom only; in an irregular packing a small particle's
 // modal damping ratio reaches sqrt(Z) xi, and the stability analysis measured the factor
 // 11 % optimistic at xi = 0.3 (tools/bench/stability_bench.py).

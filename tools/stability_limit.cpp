@@ -26,6 +26,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 
 #include "common/atomic_file.h"
 #include "common/plot.h"
@@ -48,7 +49,7 @@ struct CommandLine {
   double margin_percent = -1.0;
   double failure_probability = -1.0;
   double tolerance_percent = -1.0;
-  int threads = 1;
+  int threads = 0;  // 0: every core of the machine
   std::string output = "out";
   std::string name = "packing";
   bool pictures = true;
@@ -106,12 +107,13 @@ int Run(const CommandLine& cl) {
     values = MergeStabilityParameters(values, LoadStabilityParameters(cl.parameters));
   if (!cl.sweep.empty() && cl.sweep != "nu_p")
     throw InputError("--sweep '" + cl.sweep + "' is not allowed: the only sweep is nu_p");
-  if (cl.threads < 1)
+  if (cl.threads < 0)
     throw InputError("--threads = " + std::to_string(cl.threads) +
-                     " is not allowed: it must be >= 1");
+                     " is not allowed: it must be >= 1 (or 0 for every core)");
   const Packing<Dim> packing = LoadPacking<Dim>(cl.packing);
   SceneOptions<Dim> scene = StabilitySceneOf<Dim>(values, packing);
-  scene.num_threads = cl.threads;
+  scene.num_threads =
+      cl.threads > 0 ? cl.threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   StabilityOptions options = StabilityOptionsOf(values);
   if (cl.failure_probability > 0.0) options.lanczos.failure_probability = cl.failure_probability;
   if (cl.tolerance_percent > 0.0) options.lanczos.relative_tolerance = cl.tolerance_percent / 100.0;
@@ -213,7 +215,7 @@ int main(int argc, char** argv) {
   app.add_option("--tolerance", cl.tolerance_percent,
                  "per cent between the certified bound and the Ritz value of omega_max^2 and "
                  "rho(B), default 0.4");
-  app.add_option("--threads", cl.threads, "OpenMP threads for the products, default 1");
+  app.add_option("--threads", cl.threads, "OpenMP threads for the products, default 0: every core");
   app.add_option("--output", cl.output, "output directory (created), default out");
   app.add_option("--name", cl.name, "file name prefix, default packing");
   app.add_flag(

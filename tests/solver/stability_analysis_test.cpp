@@ -195,6 +195,10 @@ TEST(StabilityTimeStep, O6TriangularLatticeLimit) {
   EXPECT_EQ(run(0.99 * s.critical_time_step_s), "");
   const std::string failure = run(1.01 * s.critical_time_step_s);
   EXPECT_NE(failure.find("diverged"), std::string::npos) << failure;
+  // The exact infinite-lattice limit 2 sqrt(m / 6 kn) itself: the free block is bounded at
+  // 0.99 of it and diverges at 1.01 of it (its own limit lies within 1 % above).
+  EXPECT_EQ(run(0.99 * infinite), "");
+  EXPECT_NE(run(1.01 * infinite).find("diverged"), std::string::npos);
   std::printf("O6: predicted %.6e s, infinite lattice %.6e s (ratio %.4f); 1.01 x: %s\n",
               s.critical_time_step_s, infinite, s.critical_time_step_s / infinite,
               failure.substr(0, failure.find(':')).c_str());

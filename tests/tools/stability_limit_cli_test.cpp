@@ -2,7 +2,9 @@
 // JSON keys, the files, the exit statuses and the messages for bad input (no file written).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -33,8 +35,10 @@ Result StabilityLimit(const std::string& arguments) {
                  " --quiet");
 }
 
+// Per process: ctest runs the tests of this suite as parallel processes.
 fs::path FreshDirectory(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("specimen_stability_cli_" + name);
+  const fs::path dir = fs::temp_directory_path() / ("specimen_stability_cli_" + name + "_" +
+                                                    std::to_string(getpid()));
   fs::remove_all(dir);
   return dir;
 }
@@ -120,8 +124,18 @@ TEST_F(StabilityLimitCommand, ThirdSampleRunReadsAParameterFileAndSweeps) {
                      " --sweep nu_p --sweep-values 0,0.25,0.45 --output " + out.string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(fs::exists(out / "packing_sweep_nu_p.csv"));
+  // The plot next to the CSV (gnuplot, a setup.sh package).
+  EXPECT_TRUE(fs::exists(out / "packing_sweep_nu_p.png")) << r.output;
+  EXPECT_GT(fs::file_size(out / "packing_sweep_nu_p.png"), 1000u);
+  EXPECT_NE(r.output.find("largest: kn/(Ep l)"), std::string::npos) << r.output;
   const nlohmann::json a = ReadJson(out / "packing_stability.json")["analysis"];
   EXPECT_EQ(a["sweep"].size(), 3u);
+  // The largest admissible value of the sweep and its nu_p.
+  double largest = 0.0;
+  for (const auto& row : a["sweep"])
+    largest = std::max(largest, row["admissible_kn_over_ep"].get<double>());
+  EXPECT_EQ(a["sweep_largest"]["admissible_kn_over_ep"].get<double>(),
+            largest);
   EXPECT_EQ(a["ddem_convergence"]["max_spectral_radius"].get<double>(), 0.9);
   EXPECT_EQ(a["scene"]["particle_poisson_ratio"].get<double>(), 0.25);
   // The sweep row at nu_p = 0.25 is the analysis' own limit.

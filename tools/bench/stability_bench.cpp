@@ -15,7 +15,9 @@
 // --steps steps. Walls (--walls) are planes at the packing's bounding box, pressed in
 // quasi-statically by --wall-preload mean radii (see Bounded()).
 //  --mode dt: bisection on the time step, with kn/Ep as given (or rigid particles);
-//  --mode ep: bisection on kn/(Ep l) at the time step --ep-step-fraction x dt_cr(DEM).
+//  --mode ep: bisection on kn/(Ep l) at the time step --ep-step-fraction x dt_cr(DEM);
+//  --mode scan: runs at fractions --scan .. --scan-high of the linear certified step (walls:
+//    impacts make the bounded/unbounded boundary non-monotonic in the step).
 // Prints one JSON object: the prediction (certified and Ritz), the bracket, the ratio
 // predicted / largest stable value, the runs, the times.
 
@@ -54,6 +56,7 @@ struct Settings {
   double tolerance = 0.002;
   double growth = 1e6;
   double ep_step_fraction = 0.25;
+  double scan_low = 0.8, scan_high = 1.02, scan_step = 0.01;
   double velocity = 1e-3;
   std::uint64_t seed = 1;
   int threads = 1;
@@ -80,6 +83,7 @@ SceneOptions<Dim> BuildScene(const Settings& s, const Packing<Dim>& packing, dou
   scene.num_threads = s.threads;
   scene.divergence.energy_growth_factor = s.growth;
   scene.time_step.allow_above_critical = true;
+  scene.time_step.from_stability_analysis = false;  // the step is given; no analysis per run
   if (!s.walls.empty()) {
     Vector<Dim> lower = packing.centres[0], upper = packing.centres[0];
     for (int p = 0; p < packing.size(); ++p)
@@ -285,8 +289,42 @@ int Run(const Settings& s) {
     out["measured_unstable"] = high;
     out["ratio"] = predicted / low;
     out["ratio_ritz"] = sharp / low;
+  } else if (s.mode == "scan") {
+    // Bounded or not at fractions of the linear certified step, from scan_high down to
+    // scan_low (contacts that open and close make the limit non-monotonic: a bisection would
+    // not see it). Measured = the largest probed step below which every probe was bounded.
+    const SceneOptions<Dim> scene = BuildScene<Dim>(s, packing, kn_over_ep);
+    const StabilitySummary summary =
+        AnalyseStability<Dim>(packing, BuildScene<Dim>(s, packing, kn_over_ep, true), options);
+    out["analysis"] = summary.ToJson();
+    const double linear = summary.linear_critical_time_step_s;
+    out["predicted"] = summary.critical_time_step_s;
+    out["predicted_ritz"] = summary.ddem_time_step_available ? summary.ddem_time_step_ritz_s
+                                                             : summary.dem_time_step_ritz_s;
+    out["linear_predicted"] = linear;
+    double lowest_failure = 0.0;
+    std::vector<double> fractions;
+    for (double f = s.scan_high; f >= s.scan_low - 1e-9; f -= s.scan_step) fractions.push_back(f);
+    for (const double fraction : fractions) {
+      std::string failure;
+      const bool ok = Bounded<Dim>(s, packing, scene, fraction * linear, &failure);
+      runs.push_back({{"value", fraction * linear}, {"fraction", fraction}, {"bounded", ok},
+                      {"failure", failure.substr(0, 160)}});
+      if (!ok) lowest_failure = fraction;
+    }
+    double stable = fractions.back();
+    for (const double fraction : fractions)
+      if (fraction < lowest_failure || lowest_failure == 0.0) {
+        stable = fraction;
+        break;
+      }
+    out["lowest_failing_fraction"] = lowest_failure;
+    out["measured_stable"] = stable * linear;
+    out["measured_unstable"] = lowest_failure * linear;  // 0: none failed
+    out["ratio"] = summary.critical_time_step_s / (stable * linear);
+    out["ratio_ritz"] = out["predicted_ritz"].get<double>() / (stable * linear);
   } else {
-    throw InputError("--mode '" + s.mode + "' is not allowed: use dt or ep");
+    throw InputError("--mode '" + s.mode + "' is not allowed: use dt, ep or scan");
   }
   out["runs"] = runs;
   out["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -326,6 +364,9 @@ int main(int argc, char** argv) {
   app.add_option("--tolerance", s.tolerance, "relative width of the final bracket");
   app.add_option("--growth", s.growth, "energy growth factor of the divergence guard");
   app.add_option("--ep-step-fraction", s.ep_step_fraction, "--mode ep: dt / dt_cr(DEM)");
+  app.add_option("--scan", s.scan_low, "--mode scan: lowest fraction of the certified step");
+  app.add_option("--scan-high", s.scan_high, "--mode scan: highest fraction");
+  app.add_option("--scan-step", s.scan_step, "--mode scan: fraction decrement");
   app.add_option("--velocity", s.velocity, "random initial speed scale [m/s]");
   app.add_option("--seed", s.seed, "seed of the initial velocities");
   app.add_option("--threads", s.threads, "solver threads");
