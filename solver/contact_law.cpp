@@ -132,6 +132,8 @@ Vector<3> RotateTangentialForce(const Vector<3>& tangential_force, const Vector<
 
 namespace {
 
+constexpr int kPrefetchDistance = 8;
+
 template <int Dim, bool kDeformable, bool kBreakable, bool kTangential, bool kDashpot>
 void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
   const ParticleArrays<Dim>& p = s.particles;
@@ -145,7 +147,10 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
   [[maybe_unused]] const Angular<Dim>* const spins = p.angular_velocity.data();
   [[maybe_unused]] const double* const radii = p.radius.data();
   [[maybe_unused]] const double* const masses = p.mass.data();
-  [[maybe_unused]] const SymmetricTensor<Dim>* const strains = p.strain.data();
+  if constexpr (kDeformable) {
+    if (s.deformation_step != s.step) RefreshContactDeformation(s);
+  }
+  [[maybe_unused]] const ContactDeformation<Dim>* const deformations = s.deformation.data();
   const std::array<int, 2>* const pairs = c.pair.data();
   [[maybe_unused]] ContactState* const states = c.state.data();
   [[maybe_unused]] const double* const reference_gaps = c.reference_gap.data();
@@ -172,6 +177,13 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
                                    sum_force_squared, loaded, broken_in_tension,              \
                                    broken_in_shear) reduction(max : max_force_squared)
   for (int k = 0; k < count; ++k) {
+    if (k + kPrefetchDistance < count) {
+      const int ahead = pairs[k + kPrefetchDistance][1];
+      __builtin_prefetch(positions + ahead);
+      if constexpr (kTangential || kDashpot) __builtin_prefetch(velocities + ahead);
+      if constexpr (kTangential) __builtin_prefetch(spins + ahead);
+      if constexpr (kDeformable) __builtin_prefetch(deformations + ahead);
+    }
     const int i = pairs[k][0], j = pairs[k][1];
     const Vector<Dim> branch = positions[j] - positions[i];
     const double distance = branch.norm();
@@ -183,7 +195,7 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
     if constexpr (kDeformable) {
       // Madan (2.53): deformed overlap h_c = h + Ri n.eps_i.n + Rj n.eps_j.n, i.e. the gap
       // shrinks by the normal displacements of the two contact points.
-      gap -= QuadraticForm(SymmetricTensor<Dim>(ri * strains[i] + rj * strains[j]), n);
+      gap -= NormalDisplacementSum(deformations[i], deformations[j], n);
     }
     ContactState state = states[k];
     if (state != ContactState::kBonded && gap >= 0.0) {

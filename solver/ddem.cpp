@@ -73,6 +73,7 @@ ForceIterationSummary IterateDeformedContactForces(SceneState<Dim>& s,
     // Madan (3.5): stress from the current forces -> strain -> deformed overlap -> forces.
     for (int q = 0; q < count; ++q)
       p.strain[q] = s.compliance.Strain(ParticleStressFromContacts<Dim>(s, q, external[q]));
+    s.deformation_step = -1;  // the contact pass's copy of the strains is stale
     double change = 0.0, largest = 0.0;
     for (int k = 0; k < c.size(); ++k) {
       const int i = c.pair[k][0], j = c.pair[k][1];

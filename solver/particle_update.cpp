@@ -93,6 +93,11 @@ const std::uint8_t* ExternalFlags(SceneState<Dim>& s) {
   return s.external_flag.data();
 }
 
+// Adjacency entries between a gather and its prefetch (kAdjacencyPadding in scene_state.h
+// pads the entry array by at least this much).
+constexpr int kPrefetchEntries = 12;
+static_assert(kPrefetchEntries <= kAdjacencyPadding, "the prefetch reads past the adjacency");
+
 template <int Dim, bool kDeformable, bool kDamping, bool kRotation, bool kExternal,
           bool kConstraints>
 void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
@@ -113,6 +118,8 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
   [[maybe_unused]] const double* const inverse_masses = p.inverse_mass.data();
   [[maybe_unused]] const double* const inverse_inertias = p.inverse_inertia.data();
   [[maybe_unused]] SymmetricTensor<Dim>* const strains = p.strain.data();
+  if constexpr (kDeformable) s.deformation.resize(p.strain.size());
+  [[maybe_unused]] ContactDeformation<Dim>* const deformations = s.deformation.data();
   [[maybe_unused]] Vector<Dim>* const external_forces = s.external_force.data();
   [[maybe_unused]] Angular<Dim>* const external_torques = s.external_torque.data();
   [[maybe_unused]] Eigen::Matrix<double, Dim, Dim>* const external_moments =
@@ -160,7 +167,16 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
     // off-diagonal products, the same way, so that an infinitely stiff DDEM particle turns
     // exactly as a rigid one, and DDEM gets its torque from the moment's sums.
     [[maybe_unused]] ProductSums<Dim> sums;
-    for (int e = offset[q]; e < offset[q + 1]; ++e) {
+    const int entry_end = offset[q + 1];
+    for (int e = offset[q]; e < entry_end; ++e) {
+      // The contacts where q is j lie far from its own (they sit with i's): fetch the force
+      // and normal of the entry kPrefetchEntries ahead while this one is summed. The
+      // adjacency array is padded (RebuildAdjacency), so the read never leaves it.
+      {
+        const int ahead = entry[e + kPrefetchEntries] >> 1;
+        __builtin_prefetch(forces + ahead);
+        if constexpr (kDeformable || kRotation) __builtin_prefetch(normals + ahead);
+      }
       const int k = entry[e] >> 1;
       const Vector<Dim>& f = forces[k];
       // j receives -f. A multiplication by +-1 (exact), not a branch: the side of a contact
@@ -205,6 +221,7 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
       for (int k = 0; k < Dim; ++k) strain[k] = scale * (normal_minus_coupling * sym[k] + coupling * trace);
       for (int k = Dim; k < kVoigtSize<Dim>; ++k) strain[k] = (scale * shear) * sym[k];
       strains[q] = strain;
+      deformations[q].Set(strain, r);
       max_strain_squared = std::max(max_strain_squared, DoubleContraction<Dim>(strain, strain));
     }
 
@@ -299,6 +316,7 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
       kinetic += 0.5 * inertia * AngularDot(w_old, w_new);
     }
   }
+  if constexpr (kDeformable) s.deformation_step = s.step + 1;  // the step's clock advances next
   totals->kinetic_energy_j = kinetic;
   totals->damping_dissipation_j = damping;
   totals->constraint_work_j = constraint_work;

@@ -111,6 +111,7 @@ void RenumberParticles(SceneState<Dim>& s, const std::vector<int>& new_of_old,
   }
   Permute(p.angular_velocity, new_of_old);
   Permute(p.strain, new_of_old);
+  s.deformation_step = -1;  // rebuilt from the strains by the next contact pass
   Permute(s.external_torque, new_of_old);
   Permute(s.external_moment, new_of_old);
   s.external_flag.clear();
@@ -218,6 +219,14 @@ int ExternalView<Dim>::InternalContact(const SceneState<Dim>& s, int c) const {
 }
 
 template <int Dim>
+void RefreshContactDeformation(SceneState<Dim>& s) {
+  const ParticleArrays<Dim>& p = s.particles;
+  s.deformation.resize(p.strain.size());
+  for (size_t q = 0; q < p.strain.size(); ++q) s.deformation[q].Set(p.strain[q], p.radius[q]);
+  s.deformation_step = s.step;
+}
+
+template <int Dim>
 void RebuildAdjacency(SceneState<Dim>& s) {
   const int count = s.particles.size();
   const int contacts = s.contacts.size();
@@ -228,7 +237,7 @@ void RebuildAdjacency(SceneState<Dim>& s) {
     ++a.offset[s.contacts.pair[c][1] + 1];
   }
   for (int q = 0; q < count; ++q) a.offset[q + 1] += a.offset[q];
-  a.entry.resize(2 * static_cast<size_t>(contacts));
+  a.entry.assign(2 * static_cast<size_t>(contacts) + kAdjacencyPadding, 0);
   // Fill in contact order, so each particle's entries are sorted by contact.
   std::vector<int>& cursor = s.adjacency_cursor;
   cursor.assign(a.offset.begin(), a.offset.end() - 1);
@@ -251,7 +260,7 @@ std::size_t MemoryBytes(const SceneState<Dim>& s) {
   std::size_t bytes = sizeof(s);
   bytes += Bytes(p.position) + Bytes(p.velocity) + Bytes(p.angular_velocity) +
            Bytes(p.rotation_angle) + Bytes(p.radius) + Bytes(p.mass) + Bytes(p.inverse_mass) +
-           Bytes(p.inverse_inertia) + Bytes(p.strain);
+           Bytes(p.inverse_inertia) + Bytes(p.strain) + Bytes(s.deformation);
   for (const ContactArrays<Dim>* c : {&s.contacts, &s.contacts_scratch})
     bytes += Bytes(c->pair) + Bytes(c->state) + Bytes(c->reference_gap) + Bytes(c->normal) +
              Bytes(c->force) + Bytes(c->normal_elastic_force) + Bytes(c->tangential_force);
@@ -277,6 +286,8 @@ template class ExternalView<2>;
 template class ExternalView<3>;
 template std::size_t MemoryBytes<2>(const SceneState<2>&);
 template std::size_t MemoryBytes<3>(const SceneState<3>&);
+template void RefreshContactDeformation<2>(SceneState<2>&);
+template void RefreshContactDeformation<3>(SceneState<3>&);
 template void RebuildAdjacency<2>(SceneState<2>&);
 template void RebuildAdjacency<3>(SceneState<3>&);
 

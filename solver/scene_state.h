@@ -42,9 +42,44 @@ struct ParticleOrder {
   int External(int internal) const { return identity() ? internal : external_of_internal[internal]; }
 };
 
+// DDEM: what the contact pass reads of a particle's strain, one cache line (3D) or half of
+// one (2D) per particle. For particle q with strain eps and radius r it holds r eps with the
+// shear components doubled, in the Voigt order of SymmetricTensor:
+//   2D: r (e_xx, e_yy, 2 e_xy), 3D: r (e_xx, e_yy, e_zz, 2 e_yz, 2 e_xz, 2 e_xy),
+// so that the normal displacement of the contact point at unit normal n, r n.eps.n
+// (Madan (2.53)), is the dot product of it with (n_x^2, n_y^2, [n_z^2,] products of two
+// components): ContactDeformation::Normal. The contact gathers one line for j's strain
+// instead of the 1.5 lines of a packed 48-byte tensor, and multiplies no radius.
+template <int Dim>
+struct alignas(Dim == 2 ? 32 : 64) ContactDeformation {
+  double d[Dim == 2 ? 4 : 8] = {};
+
+  void Set(const SymmetricTensor<Dim>& strain, double radius) {
+    for (int k = 0; k < Dim; ++k) d[k] = radius * strain[k];
+    for (int k = Dim; k < kVoigtSize<Dim>; ++k) d[k] = (2.0 * radius) * strain[k];
+  }
+};
+
+// r_i n.eps_i.n + r_j n.eps_j.n from the two particles' rows.
+inline double NormalDisplacementSum(const ContactDeformation<2>& a, const ContactDeformation<2>& b,
+                                    const Vector<2>& n) {
+  return (a.d[0] + b.d[0]) * (n.x() * n.x()) + (a.d[1] + b.d[1]) * (n.y() * n.y()) +
+         (a.d[2] + b.d[2]) * (n.x() * n.y());
+}
+inline double NormalDisplacementSum(const ContactDeformation<3>& a, const ContactDeformation<3>& b,
+                                    const Vector<3>& n) {
+  return (a.d[0] + b.d[0]) * (n.x() * n.x()) + (a.d[1] + b.d[1]) * (n.y() * n.y()) +
+         (a.d[2] + b.d[2]) * (n.z() * n.z()) + (a.d[3] + b.d[3]) * (n.y() * n.z()) +
+         (a.d[4] + b.d[4]) * (n.x() * n.z()) + (a.d[5] + b.d[5]) * (n.x() * n.y());
+}
+
 // Particle -> contact adjacency in compressed rows: particle p's contacts are
 // entry[offset[p] .. offset[p + 1]), each entry = 2 * contact + side (0: p is the contact's
 // i, 1: p is its j), in increasing contact order (deterministic sums).
+// The entry array holds kAdjacencyPadding zeros past its last entry, so that a pass may read
+// (prefetch) a fixed number of entries ahead without a bounds check.
+constexpr int kAdjacencyPadding = 16;
+
 struct ContactAdjacency {
   std::vector<int> offset;
   std::vector<int> entry;
@@ -95,6 +130,12 @@ struct SceneState {
   double time_s = 0.0;
 
   ParticleArrays<Dim> particles;
+  // DDEM: particles.strain in the contact pass's form (ContactDeformation), written by the
+  // particle pass next to the strain. Valid while deformation_step == step; anything else
+  // that changes the strains (the force iteration, a renumbering) sets deformation_step to
+  // -1 and the next contact pass rebuilds it (RefreshContactDeformation).
+  std::vector<ContactDeformation<Dim>> deformation;
+  long deformation_step = -1;
   ContactArrays<Dim> contacts;
   ContactArrays<Dim> contacts_scratch;  // merge buffer of the neighbour search
   ContactAdjacency adjacency;
@@ -184,6 +225,10 @@ class ExternalView {
   mutable long changes_seen_ = -1;
   long changes_ = 0;
 };
+
+// Rebuilds state.deformation from particles.strain (DDEM scenes) and marks it current.
+template <int Dim>
+void RefreshContactDeformation(SceneState<Dim>& state);
 
 // Rebuilds the particle -> contact adjacency from state.contacts.
 template <int Dim>

@@ -8,6 +8,7 @@
 
 #include "common/error.h"
 #include "solver/regular_lattice.h"
+#include "solver/scene_state.h"
 #include "solver/simulation.h"
 
 namespace specimen {
@@ -226,6 +227,49 @@ TEST(DdemRigidLimit, HugeParticleModulusReproducesDem) {
   EXPECT_LE(largest_difference, 1e-15 * 0.02);  // round-off of coordinates ~ 0.02 m
   std::printf("rigid limit: largest move %.3e m, largest difference %.3e m\n", largest_move,
               largest_difference);
+}
+
+// The contact pass reads each particle's strain as a row r eps with doubled shear terms
+// (scene_state.h, ContactDeformation): the dot product with the normal's products must be
+// Madan's (2.53) r_i n.eps_i.n + r_j n.eps_j.n.
+TEST(DdemContactDeformation, RowsGiveTheNormalDisplacementsOfTheContactPoints) {
+  SymmetricTensor<2> a2(3e-4, -2e-4, 5e-5), b2(-1e-4, 4e-4, -7e-5);
+  ContactDeformation<2> ra2, rb2;
+  ra2.Set(a2, 1.5e-3);
+  rb2.Set(b2, 0.7e-3);
+  const Vector<2> n2 = Vector<2>(0.6, -0.8);
+  EXPECT_NEAR(NormalDisplacementSum(ra2, rb2, n2),
+              1.5e-3 * QuadraticForm(a2, n2) + 0.7e-3 * QuadraticForm(b2, n2), 1e-20);
+  SymmetricTensor<3> a3, b3;
+  a3 << 3e-4, -2e-4, 1e-4, 5e-5, -6e-5, 2e-5;
+  b3 << -1e-4, 4e-4, -3e-4, -7e-5, 1e-5, 8e-5;
+  ContactDeformation<3> ra3, rb3;
+  ra3.Set(a3, 1.5e-3);
+  rb3.Set(b3, 0.7e-3);
+  const Vector<3> n3 = Vector<3>(0.48, -0.6, 0.64);
+  EXPECT_NEAR(NormalDisplacementSum(ra3, rb3, n3),
+              1.5e-3 * QuadraticForm(a3, n3) + 0.7e-3 * QuadraticForm(b3, n3), 1e-20);
+  EXPECT_EQ(sizeof(ContactDeformation<3>), 64u);  // one cache line per particle
+  EXPECT_EQ(alignof(ContactDeformation<3>), 64u);
+}
+
+// The strains the force iteration leaves are the ones the next step's contact pass uses:
+// at the iteration's fixed point, the step reproduces the converged forces (it would not
+// with the contact pass's copy of the strains of the step before the iteration).
+TEST(DdemForceIteration, NextStepStartsFromTheIteratedStrains) {
+  Simulation<2> row = Row(5e11);
+  RunOptions one;
+  one.max_steps = 1;
+  row.Run(one);  // strains of a first step, then the iteration changes them
+  ForceIterationOptions options;
+  options.max_iterations = 5000;
+  options.tolerance = 1e-13;
+  options.watched_contact = 20;
+  const ForceIterationSummary s = row.IterateDeformedContactForces(options);
+  ASSERT_TRUE(s.converged) << s.termination;
+  const double converged = s.watched_normal_force_n.back();
+  row.Run(one);
+  EXPECT_NEAR(row.contacts().normal_elastic_force[20], converged, 1e-9 * std::abs(converged));
 }
 
 }  // namespace
