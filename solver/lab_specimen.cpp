@@ -120,20 +120,32 @@ LabSpecimen<Dim> DescribeSpecimen(const Packing<Dim>& packing, LabTestKind kind,
     }
   }
 
-  // Strain region and the boundary layer of the kinematic test.
-  if (strain_boundary_margin > 0.0) {
-    s.strain_region.resize(packing.size());
-    int inside = 0;
-    for (int q = 0; q < packing.size(); ++q) {
+  // Strain region: the particles of the load-carrying skeleton (at least Dim contacts, so
+  // held by their bonds: a particle with fewer is a rattler whose displacement does not
+  // follow the specimen's, and on the boundary of the triangulated region it would carry
+  // the weight of a boundary vertex) at least the margin inside the domain.
+  std::vector<int> contacts(packing.size(), 0);
+  for (const auto& c : packing.contacts) {
+    ++contacts[c[0]];
+    ++contacts[c[1]];
+  }
+  s.strain_region.assign(packing.size(), true);
+  int inside = 0;
+  for (int q = 0; q < packing.size(); ++q) {
+    if (contacts[q] < Dim) {
+      s.strain_region[q] = false;
+      ++s.rattlers;
+    } else if (strain_boundary_margin > 0.0) {
       s.strain_region[q] =
           domain.SignedDistance(packing.centres[q]) >= strain_boundary_margin * s.mean_radius_m;
-      inside += s.strain_region[q] ? 1 : 0;
     }
-    if (inside < 2 * (Dim + 1))
-      throw InputError("strain_boundary_margin = " + Number(strain_boundary_margin) +
-                       " mean radii leaves " + std::to_string(inside) +
-                       " particles inside the specimen: it must leave a region to measure");
+    inside += s.strain_region[q] ? 1 : 0;
   }
+  if (inside < 2 * (Dim + 1))
+    throw InputError("strain_boundary_margin = " + Number(strain_boundary_margin) +
+                     " mean radii leaves " + std::to_string(inside) +
+                     " particles inside the specimen: it must leave a region to measure");
+  if (inside == packing.size()) s.strain_region.clear();  // every particle
   if (kind == LabTestKind::kPureShear)
     for (int q = 0; q < packing.size(); ++q)
       if (domain.SignedDistance(packing.centres[q]) - packing.radii[q] < 0.5 * s.mean_radius_m)

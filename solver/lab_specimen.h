@@ -37,6 +37,7 @@ struct LabSpecimen {
   double max_radius_m = 0.0;
   // Bagi strain region: empty = every particle; else one flag per particle.
   std::vector<bool> strain_region;
+  int rattlers = 0;  // particles with fewer than Dim contacts, left out of the strain region
   // Pure shear: the boundary particles (surface within 0.5 r_mean of the domain boundary).
   std::vector<int> boundary_particles;
 };

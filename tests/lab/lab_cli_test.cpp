@@ -1,0 +1,165 @@
+// The run-test command as a user runs it (tools/run_test.cpp): a scene file in, the report
+// and the files out; exit statuses of tools/command_line.h (0 success, 2 bad input, 3 file
+// error, 4 a strength test without a peak); nothing written for bad input.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+Result Execute(const std::string& command) {
+  Result result;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  char buffer[4096];
+  while (fgets(buffer, sizeof(buffer), pipe)) result.output += buffer;
+  const int raw = pclose(pipe);
+  result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return result;
+}
+
+fs::path Scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("specimen_run_test_cli_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+bool MissingOrEmpty(const fs::path& dir) { return !fs::exists(dir) || fs::is_empty(dir); }
+
+class RunTestCommand : public testing::Test {
+ protected:
+  // A 300-disc 10 x 10 mm packing, made once (generate-packing, as a user would).
+  static void SetUpTestSuite() {
+    const fs::path dir = Scratch("packing");
+    const Result r = Execute(std::string(SPECIMEN_BINARY_DIR) +
+                             "/tools/generate-packing --domain \"rectangle 0 0 0.01 0.01\" "
+                             "--count 300 --no-pictures --quiet --output " +
+                             dir.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    packing_ = (dir / "packing.packing").string();
+  }
+
+  // Writes a scene with the packing, a breakable material and `test` lines.
+  static fs::path Scene(const fs::path& dir, const std::string& test,
+                        const std::string& material_extra = "bond_tensile_strength = 2e3\n"
+                                                            "bond_shear_strength = 2e4\n") {
+    const fs::path path = dir / "scene.toml";
+    std::ofstream(path) << "[specimen]\npacking = \"" << packing_
+                        << "\"\n[material]\nnormal_stiffness = 1e10\ntangential_stiffness = "
+                           "2.5e9\nfriction_coefficient = 0.5\ndensity = 2000\n"
+                        << material_extra << "[test]\n"
+                        << test << "[output]\nname = \"t\"\n";
+    return path;
+  }
+
+  static Result RunTest(const std::string& arguments) {
+    return Execute(std::string(SPECIMEN_BINARY_DIR) + "/tools/run-test " + arguments + " --quiet");
+  }
+
+  static std::string packing_;
+};
+std::string RunTestCommand::packing_;
+
+TEST_F(RunTestCommand, UcsWritesTheReportAndFiles) {
+  const fs::path dir = Scratch("ucs");
+  const fs::path out = dir / "out";
+  const Result r = RunTest(Scene(dir, "kind = \"ucs\"\n").string() + " --output " + out.string() +
+                           " --no-pictures");
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* text : {"UCS (peak)", "E, nu (plane strain)", "E', nu' (in-plane)", "files:"})
+    EXPECT_NE(r.output.find(text), std::string::npos) << text << "\n" << r.output;
+  for (const char* file : {"t_curve.csv", "t_bonds.csv", "t_summary.json", "t_peak.vtu", "t_end.vtu"})
+    EXPECT_TRUE(fs::exists(out / file)) << file;
+  std::ifstream in(out / "t_summary.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["command"], "run-test");
+  EXPECT_TRUE(j["result"]["peak_reached"].get<bool>());
+  EXPECT_GT(j["result"]["peak_stress_pa"].get<double>(), 0.0);
+  EXPECT_TRUE(j["result"]["elastic"]["measured"].get<bool>());
+}
+
+// Bad input: status 2, the message names the problem, no output directory is created.
+TEST_F(RunTestCommand, BadInputWritesNothing) {
+  const struct {
+    const char* test;
+    const char* words;
+  } cases[] = {
+      {"kind = \"biaxial\"\nconfining_stress = -1e6\n", "confining"},
+      {"kind = \"ucs\"\nmodulus_window = [0.0, 0.5]\n", "modulus_window"},
+      {"kind = \"ucs\"\nmodulus_window = [0.1, 1.2]\n", "modulus_window"},
+      {"kind = \"brazilian\"\n", "disc"},
+      {"kind = \"ucs\"\nno_such_key = 1\n", "no_such_key"},
+      {"kind = \"triaxial\"\n", "triaxial"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.test);
+    const fs::path dir = Scratch("bad");
+    const fs::path out = dir / "out";
+    const Result r = RunTest(Scene(dir, c.test).string() + " --output " + out.string());
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find(c.words), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("run-test: error:"), std::string::npos) << r.output;
+    EXPECT_TRUE(MissingOrEmpty(out)) << r.output;
+  }
+  // A domain the packing does not fill (a generated specimen must match its own domain; a
+  // packing file whose domain is larger than its particles).
+  const fs::path dir = Scratch("unfilled");
+  std::ifstream in(packing_);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "rectangle 0 0 0.01", to = "rectangle 0 0 0.03";
+  const size_t at = text.find(from);
+  ASSERT_NE(at, std::string::npos) << text.substr(0, 400);
+  text.replace(at, from.size(), to);
+  std::ofstream(dir / "wide.packing") << text;
+  std::ofstream(dir / "scene.toml") << "[specimen]\npacking = \"wide.packing\"\n[material]\n"
+                                       "normal_stiffness = 1e10\ndensity = 2000\n[test]\n"
+                                       "kind = \"ucs\"\n";
+  const Result r = RunTest((dir / "scene.toml").string() + " --output " + (dir / "out").string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("do not fill"), std::string::npos) << r.output;
+  EXPECT_TRUE(MissingOrEmpty(dir / "out"));
+}
+
+TEST_F(RunTestCommand, FileErrors) {
+  const fs::path dir = Scratch("files");
+  // A scene that does not exist.
+  Result r = RunTest((dir / "missing.toml").string() + " --output " + (dir / "out").string());
+  EXPECT_EQ(r.status, 3) << r.output;
+  EXPECT_TRUE(MissingOrEmpty(dir / "out"));
+  // An output directory that cannot be created (below a regular file): refused before the run.
+  std::ofstream(dir / "file") << "x";
+  r = RunTest(Scene(dir, "kind = \"ucs\"\n").string() + " --output " + (dir / "file" / "out").string());
+  EXPECT_EQ(r.status, 3) << r.output;
+  EXPECT_EQ(r.output.find("UCS (peak)"), std::string::npos) << r.output;  // no test was run
+  // A scene that is not TOML.
+  std::ofstream(dir / "broken.toml") << "[test\nkind = ";
+  r = RunTest((dir / "broken.toml").string() + " --output " + (dir / "out").string());
+  EXPECT_EQ(r.status, 3) << r.output;
+  EXPECT_TRUE(MissingOrEmpty(dir / "out"));
+}
+
+// A strength test that reaches its strain limit without a peak: status 4 and the message,
+// with the files written for diagnosis.
+TEST_F(RunTestCommand, NoPeakIsAComputationFailure) {
+  const fs::path dir = Scratch("nopeak");
+  const fs::path out = dir / "out";
+  const Result r = RunTest(Scene(dir, "kind = \"ucs\"\nstrain_limit = 5e-4\n", "").string() +
+                           " --output " + out.string() + " --no-pictures --no-snapshots");
+  EXPECT_EQ(r.status, 4) << r.output;
+  EXPECT_NE(r.output.find("without a peak"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(out / "t_summary.json"));
+}
+
+}  // namespace

@@ -1,0 +1,129 @@
+// Bad input to the virtual laboratory (issue 4): a specimen shape the packing does not fill,
+// a test on the wrong shape, a negative confinement, a modulus window outside (0, 1), and a
+// strength test that never reaches a peak within its strain limit - reported in the result,
+// not hung and not thrown. Every invalid input is refused before any simulation work.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "common/error.h"
+#include "generator/generate.h"
+#include "solver/lab_envelope.h"
+#include "solver/lab_measurement.h"
+#include "solver/lab_test.h"
+
+namespace specimen {
+namespace {
+
+MaterialParameters Material() {
+  MaterialParameters m;
+  m.normal_stiffness_n_per_m = 1e10;
+  m.tangential_stiffness_n_per_m = 2.5e9;
+  m.density_kg_per_m3 = 2000.0;
+  return m;
+}
+
+class LabBadInput : public testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    GeneratorOptions options = DefaultGeneratorOptions<2>();
+    options.particle_count = 300;
+    options.seed = 2;
+    packing_ = new Packing<2>(
+        GeneratePacking<2>(Domain<2>::Rectangle(0, 0, 0.01, 0.01), options, nullptr));
+  }
+  static void TearDownTestSuite() {
+    delete packing_;
+    packing_ = nullptr;
+  }
+
+  // Runs the test expecting an InputError whose message holds every one of `words`, and
+  // that it was refused at once (no simulation: well under a second).
+  static void ExpectRefused(const Packing<2>& packing, const LabTestOptions& options,
+                            const std::vector<std::string>& words) {
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      RunLabTest<2>(packing, Material(), options);
+      ADD_FAILURE() << "no InputError";
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      for (const std::string& w : words)
+        EXPECT_NE(message.find(w), std::string::npos) << "'" << w << "' not in: " << message;
+    }
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+              1.0);
+  }
+
+  static Packing<2>* packing_;
+};
+Packing<2>* LabBadInput::packing_ = nullptr;
+
+TEST_F(LabBadInput, ShapeThePackingDoesNotFill) {
+  // The particles fill 10 x 10 mm; the domain claims 20 x 10 mm.
+  Packing<2> wider = *packing_;
+  wider.domain = Domain<2>::Rectangle(0, 0, 0.02, 0.01);
+  ExpectRefused(wider, LabTestOptions(), {"do not fill", "x max"});
+  // A Brazilian test needs a disc.
+  LabTestOptions brazilian;
+  brazilian.kind = LabTestKind::kBrazilian;
+  ExpectRefused(*packing_, brazilian, {"brazilian", "disc", "rectangle"});
+}
+
+TEST_F(LabBadInput, NegativeConfinement) {
+  LabTestOptions options;
+  options.kind = LabTestKind::kConfinedCompression;
+  options.confining_stress_pa = -1e6;
+  ExpectRefused(*packing_, options, {"confining_stress_pa", ">= 0"});
+  // The envelope refuses it too, before its first test.
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_THROW(RunConfinedEnvelope<2>(*packing_, Material(), options, {1e6, -2e6, 4e6}),
+               InputError);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
+}
+
+TEST_F(LabBadInput, ModulusWindowOutsideZeroOne) {
+  for (const auto& [low, high] : {std::pair{0.0, 0.5}, std::pair{0.1, 1.0}, std::pair{-0.1, 0.5},
+                                  std::pair{0.6, 0.5}, std::pair{0.1, 1.5}}) {
+    SCOPED_TRACE(std::to_string(low) + " - " + std::to_string(high));
+    LabTestOptions options;
+    options.modulus_window_low = low;
+    options.modulus_window_high = high;
+    ExpectRefused(*packing_, options, {"modulus_window"});
+  }
+}
+
+// Unbreakable bonds: the UCS can never peak. It stops at the strain limit and says so.
+TEST_F(LabBadInput, NoPeakWithinTheStrainLimitIsReported) {
+  LabTestOptions options;
+  options.strain_limit = 5e-4;
+  const auto start = std::chrono::steady_clock::now();
+  const LabTestResult r = RunLabTest<2>(*packing_, Material(), options);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
+  EXPECT_FALSE(r.peak_reached);
+  EXPECT_EQ(r.termination, LabTermination::kStrainLimit);
+  EXPECT_NE(r.termination_message.find("without a peak"), std::string::npos)
+      << r.termination_message;
+  EXPECT_GE(r.curve.back().boundary_strain, options.strain_limit);
+  EXPECT_LT(r.curve.back().boundary_strain, 1.2 * options.strain_limit);
+  // The elastic constants are still measured, on the window of the largest stress.
+  EXPECT_TRUE(r.elastic.measured);
+  EXPECT_NE(r.BriefReport().find("no peak"), std::string::npos) << r.BriefReport();
+}
+
+TEST(LabMohrCoulomb, NeedsTwoDistinctConfinements) {
+  EXPECT_THROW(FitMohrCoulomb({1e6}, {5e7}), InputError);
+  EXPECT_THROW(FitMohrCoulomb({1e6, 1e6}, {5e7, 5.1e7}), InputError);
+  EXPECT_THROW(FitMohrCoulomb({1e6, 2e6}, {5e7}), InputError);
+  // sigma_1 = 2 c cos(phi)/(1 - sin phi) + sigma_3 (1 + sin phi)/(1 - sin phi), phi = 30 deg:
+  // slope 3, intercept 2 c sqrt(3): c = 10 MPa gives 34.64 MPa.
+  const double a = 2e7 * std::sqrt(3.0);
+  const MohrCoulombFit fit = FitMohrCoulomb({0.0, 5e6, 1e7}, {a, a + 1.5e7, a + 3e7});
+  ASSERT_TRUE(fit.valid);
+  EXPECT_NEAR(fit.friction_angle_deg, 30.0, 1e-9);
+  EXPECT_NEAR(fit.cohesion_pa, 1e7, 1e-3);
+}
+
+}  // namespace
+}  // namespace specimen
