@@ -285,6 +285,7 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
           " Pa); raise Ep or lower kn, or set time_step.allow_above_critical to run anyway");
     critical_.critical_time_step_s = analysis.critical_time_step_s;
     critical_.ddem_lag_factor = 1.0;
+    critical_.limiting_particle = -1;  // the per-particle bound's; not the analysis' limit
     critical_.method = "stability analysis: " + analysis.critical_time_step_method;
     stability_note_ = analysis.BriefReport();
   }
@@ -299,7 +300,9 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
     if (time_step_above_critical_ && !options.time_step.allow_above_critical)
       throw InputError("time_step_s = " + Number(dt) + " s is above the critical time step " +
                        Number(critical_.critical_time_step_s) + " s (" + critical_.method +
-                       ", limiting particle " + std::to_string(critical_.limiting_particle) +
+                       (critical_.limiting_particle >= 0
+                            ? ", limiting particle " + std::to_string(critical_.limiting_particle)
+                            : std::string()) +
                        "); lower it, or set time_step.allow_above_critical to run anyway");
   } else {
     dt = options.time_step.safety_factor * critical_.critical_time_step_s *

@@ -142,7 +142,8 @@ class BoundaryOperator {
       for (size_t k = 0; k < v.size(); ++k) out[k] = v[k] - out[k];
     };
     const ConjugateGradientResult result = ConjugateGradient(
-        i_minus_s, r, options_.inner_tolerance, options_.inner_max_iterations, w, &workspace_);
+        i_minus_s, r, options_.inner_tolerance, options_.inner_max_iterations, w, &workspace_,
+        options_.lanczos.num_threads);
     inner_iterations_ += result.iterations;
     if (!result.converged)
       throw ComputationError(
@@ -167,7 +168,8 @@ class BoundaryOperator {
     };
     const std::array<ConjugateGradientResult, 2> results =
         ConjugateGradientPair(i_minus_s, r1, r2, options_.inner_tolerance,
-                              options_.inner_max_iterations, w1, w2, &pair_workspace_);
+                              options_.inner_max_iterations, w1, w2, &pair_workspace_,
+                              options_.lanczos.num_threads);
     for (const ConjugateGradientResult& result : results) {
       inner_iterations_ += result.iterations;
       if (!result.converged)
@@ -344,7 +346,9 @@ bool StabilityOptions::IsValid(std::string* error) const {
 
 template <int Dim>
 StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOptions<Dim>& scene,
-                                  const StabilityOptions& options) {
+                                  const StabilityOptions& given_options) {
+  StabilityOptions options = given_options;
+  options.lanczos.num_threads = scene.num_threads;  // the network's products and the vectors'
   std::string error;
   if (!options.IsValid(&error)) throw InputError("stability analysis: " + error);
   const auto start = std::chrono::steady_clock::now();

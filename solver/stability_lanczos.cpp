@@ -14,17 +14,50 @@ namespace specimen {
 
 namespace {
 
-double Dot(const std::vector<double>& a, const std::vector<double>& b) {
-  double sum = 0.0;
+// Vector kernels. Long vectors are cut into a fixed number of chunks whatever the thread
+// count, and the chunk sums added in order: the result does not depend on the threads.
+constexpr size_t kChunkedLength = 32768;
+constexpr int kChunks = 64;
+
+double Dot(const std::vector<double>& a, const std::vector<double>& b, int threads = 1) {
   const size_t n = a.size();
-  for (size_t i = 0; i < n; ++i) sum += a[i] * b[i];
+  if (n < kChunkedLength) {
+    double sum = 0.0;
+    for (size_t i = 0; i < n; ++i) sum += a[i] * b[i];
+    return sum;
+  }
+  double partial[kChunks];
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
+  for (int c = 0; c < kChunks; ++c) {
+    const size_t begin = n * c / kChunks, end = n * (c + 1) / kChunks;
+    double sum = 0.0;
+    for (size_t i = begin; i < end; ++i) sum += a[i] * b[i];
+    partial[c] = sum;
+  }
+  double sum = 0.0;
+  for (int c = 0; c < kChunks; ++c) sum += partial[c];
   return sum;
 }
 
 // y += s x
-void Axpy(double s, const std::vector<double>& x, std::vector<double>& y) {
-  const size_t n = x.size();
-  for (size_t i = 0; i < n; ++i) y[i] += s * x[i];
+void Axpy(double s, const std::vector<double>& x, std::vector<double>& y, int threads = 1) {
+  const long n = static_cast<long>(x.size());
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n >= 32768)
+  for (long i = 0; i < n; ++i) y[i] += s * x[i];
+}
+
+// y = x / d
+void Divide(const std::vector<double>& x, double d, std::vector<double>& y, int threads) {
+  const long n = static_cast<long>(x.size());
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n >= 32768)
+  for (long i = 0; i < n; ++i) y[i] = x[i] / d;
+}
+
+// p = r + ratio p
+void Direction(const std::vector<double>& r, double ratio, std::vector<double>& p, int threads) {
+  const long n = static_cast<long>(r.size());
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n >= 32768)
+  for (long i = 0; i < n; ++i) p[i] = r[i] + ratio * p[i];
 }
 
 std::vector<double> RandomUnitVector(int n, std::uint64_t seed) {
@@ -85,6 +118,7 @@ LanczosResult LargestEigenvalue(int n, const SymmetricOperator& apply,
   if (!options.IsValid(&error)) throw InputError("Lanczos: " + error);
   if (n < 1) throw InputError("Lanczos: the operator has no degrees of freedom");
   const auto start_time = std::chrono::steady_clock::now();
+  const int threads = std::max(1, options.num_threads);
   LanczosResult result;
   result.dimension = n;
   result.failure_probability = options.failure_probability;
@@ -119,16 +153,16 @@ LanczosResult LargestEigenvalue(int n, const SymmetricOperator& apply,
     if (reorthogonalise) basis.push_back(v);
     if (store_single) single_basis.emplace_back(v.begin(), v.end());
     apply(v, w);
-    const double applied_norm = std::sqrt(Dot(w, w));
-    const double a = Dot(v, w);
+    const double applied_norm = std::sqrt(Dot(w, w, threads));
+    const double a = Dot(v, w, threads);
     alpha.push_back(a);
-    Axpy(-a, v, w);
-    if (j > 0) Axpy(-beta[j - 1], v_previous, w);
+    Axpy(-a, v, w, threads);
+    if (j > 0) Axpy(-beta[j - 1], v_previous, w, threads);
     if (reorthogonalise) {
       for (int pass = 0; pass < 2; ++pass)
         for (const std::vector<double>& q : basis) Axpy(-Dot(q, w), q, w);
     }
-    const double b = std::sqrt(Dot(w, w));
+    const double b = std::sqrt(Dot(w, w, threads));
     scale = std::max({scale, std::abs(a), b});
     if (options.progress)
       options.progress(static_cast<double>(j + 1) / steps_cap, options.progress_label);
@@ -147,7 +181,7 @@ LanczosResult LargestEigenvalue(int n, const SymmetricOperator& apply,
     }
     beta.push_back(b);
     v_previous.swap(v);
-    for (int i = 0; i < n; ++i) v[i] = w[i] / b;
+    Divide(w, b, v, threads);
   }
   const int k = static_cast<int>(alpha.size());
   result.iterations = k;
@@ -219,11 +253,11 @@ LanczosResult LargestEigenvalue(int n, const SymmetricOperator& apply,
 ConjugateGradientResult ConjugateGradient(const SymmetricOperator& apply,
                                           const std::vector<double>& b, double relative_tolerance,
                                           int max_iterations, std::vector<double>* x,
-                                          ConjugateGradientWorkspace* workspace) {
+                                          ConjugateGradientWorkspace* workspace, int threads) {
   const int n = static_cast<int>(b.size());
   ConjugateGradientResult result;
   x->assign(n, 0.0);
-  const double b_norm = std::sqrt(Dot(b, b));
+  const double b_norm = std::sqrt(Dot(b, b, threads));
   if (b_norm == 0.0) {
     result.converged = true;
     return result;
@@ -240,12 +274,12 @@ ConjugateGradientResult ConjugateGradient(const SymmetricOperator& apply,
   const double target = relative_tolerance * relative_tolerance * rr;
   for (int iteration = 1; iteration <= max_iterations; ++iteration) {
     apply(p, q);
-    const double pq = Dot(p, q);
+    const double pq = Dot(p, q, threads);
     if (!(pq > 0.0)) break;  // not positive definite (or breakdown)
     const double step = rr / pq;
-    Axpy(step, p, *x);
-    Axpy(-step, q, r);
-    const double rr_new = Dot(r, r);
+    Axpy(step, p, *x, threads);
+    Axpy(-step, q, r, threads);
+    const double rr_new = Dot(r, r, threads);
     result.iterations = iteration;
     result.relative_residual = std::sqrt(rr_new) / b_norm;
     if (rr_new <= target) {
@@ -253,7 +287,7 @@ ConjugateGradientResult ConjugateGradient(const SymmetricOperator& apply,
       break;
     }
     const double ratio = rr_new / rr;
-    for (int i = 0; i < n; ++i) p[i] = r[i] + ratio * p[i];
+    Direction(r, ratio, p, threads);
     rr = rr_new;
   }
   return result;
@@ -262,7 +296,8 @@ ConjugateGradientResult ConjugateGradient(const SymmetricOperator& apply,
 std::array<ConjugateGradientResult, 2> ConjugateGradientPair(
     const SymmetricOperatorPair& apply_pair, const std::vector<double>& b1,
     const std::vector<double>& b2, double relative_tolerance, int max_iterations,
-    std::vector<double>* x1, std::vector<double>* x2, ConjugateGradientPairWorkspace* workspace) {
+    std::vector<double>* x1, std::vector<double>* x2, ConjugateGradientPairWorkspace* workspace,
+    int threads) {
   std::array<ConjugateGradientResult, 2> result;
   ConjugateGradientPairWorkspace local;
   ConjugateGradientPairWorkspace& work = workspace ? *workspace : local;
@@ -274,7 +309,7 @@ std::array<ConjugateGradientResult, 2> ConjugateGradientPair(
   for (int k = 0; k < 2; ++k) {
     const int n = static_cast<int>(b[k]->size());
     x[k]->assign(n, 0.0);
-    b_norm[k] = std::sqrt(Dot(*b[k], *b[k]));
+    b_norm[k] = std::sqrt(Dot(*b[k], *b[k], threads));
     active[k] = b_norm[k] > 0.0;
     result[k].converged = !active[k];
     w[k]->residual = *b[k];
@@ -291,15 +326,15 @@ std::array<ConjugateGradientResult, 2> ConjugateGradientPair(
       std::vector<double>& r = w[k]->residual;
       std::vector<double>& p = w[k]->direction;
       const std::vector<double>& q = w[k]->product;
-      const double pq = Dot(p, q);
+      const double pq = Dot(p, q, threads);
       if (!(pq > 0.0)) {
         active[k] = false;  // not positive definite (or breakdown): not converged
         continue;
       }
       const double step = rr[k] / pq;
-      Axpy(step, p, *x[k]);
-      Axpy(-step, q, r);
-      const double rr_new = Dot(r, r);
+      Axpy(step, p, *x[k], threads);
+      Axpy(-step, q, r, threads);
+      const double rr_new = Dot(r, r, threads);
       result[k].iterations = iteration;
       result[k].relative_residual = std::sqrt(rr_new) / b_norm[k];
       if (rr_new <= target[k]) {
@@ -308,8 +343,7 @@ std::array<ConjugateGradientResult, 2> ConjugateGradientPair(
         continue;
       }
       const double ratio = rr_new / rr[k];
-      const size_t n = r.size();
-      for (size_t i = 0; i < n; ++i) p[i] = r[i] + ratio * p[i];
+      Direction(r, ratio, p, threads);
       rr[k] = rr_new;
     }
   }

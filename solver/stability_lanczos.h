@@ -61,6 +61,9 @@ struct LanczosOptions {
   long long ritz_storage_budget = 64'000'000;
   ProgressCallback progress;  // may be empty
   std::string progress_label = "Lanczos";
+  // Threads of the vector operations (sums in a fixed order: the result does not depend on
+  // them).
+  int num_threads = 1;
 
   bool IsValid(std::string* error) const;
 };
@@ -105,7 +108,8 @@ struct ConjugateGradientWorkspace {
 ConjugateGradientResult ConjugateGradient(const SymmetricOperator& apply,
                                           const std::vector<double>& b, double relative_tolerance,
                                           int max_iterations, std::vector<double>* x,
-                                          ConjugateGradientWorkspace* workspace = nullptr);
+                                          ConjugateGradientWorkspace* workspace = nullptr,
+                                          int threads = 1);
 
 // Two independent systems A x1 = b1, A x2 = b2 solved side by side (the same iterates as two
 // ConjugateGradient calls), with `apply_pair` forming both products in one pass. Each stops
@@ -119,6 +123,7 @@ struct ConjugateGradientPairWorkspace {
 std::array<ConjugateGradientResult, 2> ConjugateGradientPair(
     const SymmetricOperatorPair& apply_pair, const std::vector<double>& b1,
     const std::vector<double>& b2, double relative_tolerance, int max_iterations,
-    std::vector<double>* x1, std::vector<double>* x2, ConjugateGradientPairWorkspace* workspace);
+    std::vector<double>* x1, std::vector<double>* x2, ConjugateGradientPairWorkspace* workspace,
+    int threads = 1);
 
 }  // namespace specimen

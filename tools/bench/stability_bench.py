@@ -23,6 +23,7 @@ import argparse
 import csv
 import json
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -106,19 +107,25 @@ def grid(packings, quick):
     return rows
 
 
-def time_analysis(build, packing, arguments, runs):
-    seconds = []
+def time_analysis(build, packing, arguments, runs, threads):
+    """Median wall time and CPU (user + system) time of stability-limit; the machine may be
+    shared, so the CPU time of a one-thread run is the steadier figure."""
+    seconds, cpu = [], []
     analysis = None
     for _ in range(runs):
         out = "/tmp/specimen_stability_timing"
         command = [os.path.join(build, "tools", "stability-limit"), "--packing", packing,
-                   "--output", out, "--quiet"] + [str(a) for a in arguments]
+                   "--output", out, "--quiet", "--threads", str(threads)] + \
+            [str(a) for a in arguments]
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
         start = time.time()
         subprocess.run(command, check=True, capture_output=True)
         seconds.append(time.time() - start)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu.append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
         with open(os.path.join(out, "packing_stability.json")) as f:
             analysis = json.load(f)["analysis"]
-    return statistics.median(seconds), analysis
+    return statistics.median(seconds), statistics.median(cpu), analysis
 
 
 def main():
@@ -129,6 +136,8 @@ def main():
     parser.add_argument("--skip-grid", action="store_true")
     parser.add_argument("--skip-timing", action="store_true")
     parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--threads", type=int, default=0,
+                        help="stability-limit --threads for the timings (0: the idle cores)")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     data = os.path.join(args.out, "packings")
@@ -206,16 +215,21 @@ def main():
              ["--kn", 7e10, "--density", 2000, "--Ep", "%g" % (7e10 / 0.3 / mean_radius_3d),
               "--nu-p", 0.35]),
         ]
-        print("\n| analysis | particles | links | median wall time [s] | of which DDEM step [s] |")
-        print("|---|---|---|---|---|")
+        print("\nload average before the timings: %.2f (%d cores), --threads %d" %
+              (os.getloadavg()[0], os.cpu_count(), args.threads))
+        print("\n| analysis | particles | links | median wall time [s] | CPU time [s] | "
+              "of which DDEM step [s] |")
+        print("|---|---|---|---|---|---|")
         for label, packing, arguments in cases:
-            seconds, a = time_analysis(args.build, packing, arguments, args.runs)
+            seconds, cpu, a = time_analysis(args.build, packing, arguments, args.runs,
+                                            args.threads)
             ddem = a["time_step"].get("ddem_eigenvalue", {}).get("seconds", 0.0)
             timings.append({"case": label, "particles": a["scene"]["particles"],
                             "links": a["scene"]["links"], "median_seconds": seconds,
-                            "ddem_seconds": ddem})
-            print("| %s | %d | %d | %.2f | %.2f |" % (label, a["scene"]["particles"],
-                                                       a["scene"]["links"], seconds, ddem))
+                            "cpu_seconds": cpu, "ddem_seconds": ddem,
+                            "threads": args.threads})
+            print("| %s | %d | %d | %.2f | %.2f | %.2f |" % (
+                label, a["scene"]["particles"], a["scene"]["links"], seconds, cpu, ddem))
             sys.stdout.flush()
     with open(os.path.join(args.out, "stability_bench.json"), "w") as f:
         json.dump({"grid": results, "timings": timings}, f, indent=2)
