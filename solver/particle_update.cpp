@@ -71,8 +71,7 @@ struct ProductSums<3> {
   }
   Eigen::Matrix3d Full() const {
     Eigen::Matrix3d m;
-    m << x_row.x(), x_row.y(), z_col.x(), y_row.x(), y_row.y(), z_col.y(), z_row.x(), z_row.y(),
-        zz;
+    m << x_row.x(), x_row.y(), z_col.x(), y_row.x(), y_row.y(), z_col.y(), z_row.x(), z_row.y(), zz;
     return m;
   }
 };
@@ -218,7 +217,8 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
       double trace = 0.0;
       for (int k = 0; k < Dim; ++k) trace += sym[k];
       SymmetricTensor<Dim> strain;
-      for (int k = 0; k < Dim; ++k) strain[k] = scale * (normal_minus_coupling * sym[k] + coupling * trace);
+      for (int k = 0; k < Dim; ++k)
+        strain[k] = scale * (normal_minus_coupling * sym[k] + coupling * trace);
       for (int k = Dim; k < kVoigtSize<Dim>; ++k) strain[k] = (scale * shear) * sym[k];
       strains[q] = strain;
       deformations[q].Set(strain, r);
@@ -258,8 +258,7 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
       // |F| / |v| with one square root.
       const double speed_squared = free_velocity.squaredNorm();
       if (speed_squared > 0.0)
-        damping_force =
-            (-alpha_t * std::sqrt(force.squaredNorm() / speed_squared)) * free_velocity;
+        damping_force = (-alpha_t * std::sqrt(force.squaredNorm() / speed_squared)) * free_velocity;
     }
 
     // 4. Central differences, Madan (2.9)-(2.11).

@@ -139,7 +139,8 @@ void RenumberParticles(SceneState<Dim>& s, const std::vector<int>& new_of_old,
       // i and j swap: the normal i -> j and the forces on i change sign.
       sorted.normal.back() = -sorted.normal.back();
       sorted.force.back() = -sorted.force.back();
-      if (sorted.tangential_enabled) sorted.tangential_force.back() = -sorted.tangential_force.back();
+      if (sorted.tangential_enabled)
+        sorted.tangential_force.back() = -sorted.tangential_force.back();
     }
     if (old_contact_of_new) (*old_contact_of_new)[k] = old;
   }

@@ -38,8 +38,12 @@ struct ParticleOrder {
   std::vector<int> external_of_internal;
 
   bool identity() const { return internal_of_external.empty(); }
-  int Internal(int external) const { return identity() ? external : internal_of_external[external]; }
-  int External(int internal) const { return identity() ? internal : external_of_internal[internal]; }
+  int Internal(int external) const {
+    return identity() ? external : internal_of_external[external];
+  }
+  int External(int internal) const {
+    return identity() ? internal : external_of_internal[internal];
+  }
 };
 
 // DDEM: what the contact pass reads of a particle's strain, one cache line (3D) or half of

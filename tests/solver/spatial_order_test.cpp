@@ -112,7 +112,8 @@ void CompareWithPresorted(const Packing<Dim>& lattice, bool deformable) {
     return list;
   };
   const double dt =
-      0.5 * Simulation<Dim>(packing, Scene<Dim>(packing, loaded, held, 0.0, deformable)).time_step_s();
+      0.5 *
+      Simulation<Dim>(packing, Scene<Dim>(packing, loaded, held, 0.0, deformable)).time_step_s();
   Simulation<Dim> a(packing, Scene<Dim>(packing, loaded, held, dt, deformable));
   Simulation<Dim> b(presorted,
                     Scene<Dim>(presorted, internal(loaded), internal(held), dt, deformable));
