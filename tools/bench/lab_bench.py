@@ -204,8 +204,9 @@ def plot(rows, csv_path, png_path):
         for n in sizes:
             data = os.path.join(tmp, "n%d.dat" % n)
             with open(data, "w") as f:
-                for r in sorted((r for r in rows if r["particles"] == n), key=lambda r: -r["rate_group"]):
-                    f.write("%g %g %g\n" % (r["cpu_seconds"], max(r["error_youngs"], 1e-5), r["rate_group"]))
+                for r in sorted((r for r in rows if r["particles"] == n and r["error_youngs"] > 0),
+                                key=lambda r: -r["rate_group"]):
+                    f.write("%g %g %g\n" % (r["cpu_seconds"], r["error_youngs"], r["rate_group"]))
             parts.append("'%s' using 1:2 with linespoints title 'N = %d', '' using 1:2:(sprintf('%%g', $3)) "
                          "with labels offset 1,0.5 font ',7' notitle" % (data, n))
         commands.append("plot " + ", ".join(parts))
