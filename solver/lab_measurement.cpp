@@ -94,6 +94,11 @@ ElasticConstantsMeasured SecantElasticConstants(const std::vector<LabCurvePoint>
   if (!WindowStates(curve, peak, low, high, &a, &b, &e.samples_in_window)) return e;
   e.window_low_pa = a.control;
   e.window_high_pa = b.control;
+  for (int k = 0; k <= peak.index; ++k)
+    if (curve[k].control >= b.control) {
+      e.broken_bonds_in_window = curve[k].broken_in_tension + curve[k].broken_in_shear;
+      break;
+    }
   double axial_a, lateral_a, axial_b, lateral_b;
   AxialAndLateral<Dim>(a.strain, axis, &axial_a, &lateral_a);
   AxialAndLateral<Dim>(b.strain, axis, &axial_b, &lateral_b);

@@ -89,6 +89,9 @@ std::string LabTestResult::FullReport() const {
   row("strain rate", Format("%.4g 1/s", strain_rate_per_s));
   row("time step / critical", Format("%.4g s", time_step_s) + " / " + Format("%.4g s", critical_time_step_s));
   row("steps / simulated time", std::to_string(steps) + " / " + Format("%.5g s", simulated_time_s));
+  if (pauses > 0)
+    row("quasi-static guard", std::to_string(pauses) + " pauses, " +
+                                  std::to_string(paused_steps) + " steps paused");
   if (kind == LabTestKind::kConfinedCompression) {
     row("confining stress sigma_3", Mpa(confining_stress_pa));
     row("largest confinement error", Format("%.3g %%", 100 * confinement_max_error));
@@ -121,6 +124,9 @@ std::string LabTestResult::FullReport() const {
       if (elastic.measured) {
         row("window (control stress)", Mpa(elastic.window_low_pa) + " - " + Mpa(elastic.window_high_pa) +
                                            " (" + std::to_string(elastic.samples_in_window) + " samples)");
+        if (elastic.broken_bonds_in_window > 0)
+          row("bonds broken in the window", std::to_string(elastic.broken_bonds_in_window) +
+                                                " (the secants include damage)");
         if (dimension == 2) {
           row("E, nu (plane strain)", Gpa(elastic.youngs_modulus_pa) + ", " +
                                           Format("%.4f", elastic.poisson_ratio));
@@ -168,6 +174,8 @@ nlohmann::json LabTestResult::ToJson() const {
                   {"time_step_s", time_step_s},
                   {"critical_time_step_s", critical_time_step_s},
                   {"steps", steps},
+                  {"pauses", pauses},
+                  {"paused_steps", paused_steps},
                   {"simulated_time_s", simulated_time_s},
                   {"strain_limit", strain_limit},
                   {"stages", stages}};
@@ -195,6 +203,7 @@ nlohmann::json LabTestResult::ToJson() const {
                   {"window_low_pa", elastic.window_low_pa},
                   {"window_high_pa", elastic.window_high_pa},
                   {"samples_in_window", elastic.samples_in_window},
+                  {"broken_bonds_in_window", elastic.broken_bonds_in_window},
                   {"plane_strain_conversion", dimension == 2 ? "E = E'(1 - nu^2), nu = nu'/(1 + nu')"
                                                              : "none (3D)"}};
   j["broken_bonds"] = {{"tension", broken_in_tension},

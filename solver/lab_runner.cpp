@@ -78,8 +78,11 @@ class LabRun {
   }
   SceneOptions<Dim> BuildScene();
   WallOptions<Dim> PlatenDrive(int index, double start_s) const;
-  // Ramps the platen speed from `from` to `to` times V over the next sample interval.
-  void RampPlatenSpeed(double from, double to);
+  // Ramps the platen speed from its current value to `to` times V, over
+  // max(one sample interval, pause_ramp_transits) times the change.
+  void RampPlatenSpeed(double to);
+  // The platen speed over V at time t, as set by the last RampPlatenSpeed (1 before any).
+  double PlatenSpeedFactor(double t) const;
   // The kinetic energy of the affine compression at the speed V: the platens close at 2V,
   // the particles move on v_a = 2 V (x_a - centre) / H: 1/2 M V^2 / 3.
   double AffineKineticEnergy() const;
@@ -102,6 +105,8 @@ class LabRun {
   const LabTestOptions& options_;
   double speed_;
   double strain_limit_;
+  // The last ramp of the platen speed factor (quasi-static guard).
+  double ramp_start_s_ = 0.0, ramp_end_s_ = 0.0, ramp_from_ = 1.0, ramp_to_ = 1.0;
   BagiStrain<Dim> strain_;
   std::optional<BagiStrain<Dim>> hull_;
   double transit_s_ = 0.0;
@@ -122,6 +127,7 @@ class LabRun {
   std::vector<std::pair<std::array<int, 2>, bool>> broken_;
   long broken_total_ = 0;
   std::vector<BrokenBond> broken_list_;
+  bool guard_budget_spent_ = false;
 };
 
 template <int Dim>
@@ -148,12 +154,27 @@ WallOptions<Dim> LabRun<Dim>::PlatenDrive(int index, double start_s) const {
 }
 
 template <int Dim>
-void LabRun<Dim>::RampPlatenSpeed(double from, double to) {
+double LabRun<Dim>::PlatenSpeedFactor(double t) const {
+  if (t >= ramp_end_s_) return ramp_to_;
+  if (t <= ramp_start_s_) return ramp_from_;
+  return ramp_from_ + (ramp_to_ - ramp_from_) * (t - ramp_start_s_) / (ramp_end_s_ - ramp_start_s_);
+}
+
+template <int Dim>
+void LabRun<Dim>::RampPlatenSpeed(double to) {
   const double t = simulation_->time_s();
-  const double ramp = options_.sample_interval_steps * simulation_->time_step_s();
+  const double from = PlatenSpeedFactor(t);
+  const double ramp = std::max(options_.sample_interval_steps * simulation_->time_step_s(),
+                               options_.pause_ramp_transits * transit_s_) *
+                      std::abs(to - from);
+  ramp_start_s_ = t;
+  ramp_end_s_ = t + ramp;
+  ramp_from_ = from;
+  ramp_to_ = to;
   for (int k = 0; k < 2; ++k) {
     WallOptions<Dim> w = PlatenDrive(k, t);
     w.velocity_amplitude.points = {{t, from}, {t + ramp, to}};
+    if (!(ramp > 0.0)) w.velocity_amplitude.points = {{t, to}};
     simulation_->SetWallOptions(k, w);
   }
 }
@@ -443,10 +464,21 @@ LabTestResult LabRun<Dim>::Run() {
                                     (options_.sample_interval_steps * simulation_->time_step_s()))));
   double speed_factor = 1.0;
   int paused_samples = 0;
-  while (true) {
-    const RunSummary summary = simulation_->Run(run);
-    r.steps += summary.steps;
-    const LabCurvePoint point = Sample();
+  long broken_before = 0;
+  // While the platens move, fresh breakage is looked for every quarter sample interval
+  // (the run summaries carry the counts): the sooner a cascade holds the platens, the less
+  // they load the specimen while it redistributes.
+  const int check_steps = std::max(1, options_.sample_interval_steps / 4);
+  // The pauses may cost at most four times the time the platens need to reach the strain
+  // limit at V: a specimen that keeps breaking bonds without losing its load (grinding
+  // fragments) must not stall the test. Past the budget the platens move at V.
+  const long pause_budget =
+      static_cast<long>(4.0 * strain_limit_ * gap0_ / (2.0 * speed_) / simulation_->time_step_s());
+  auto guard_active = [&] {
+    return guard && simulation_->time_s() >= load_start_s_ + ramp_s_ &&
+           r.paused_steps < pause_budget;
+  };
+  auto record = [&](const LabCurvePoint& point) {
     r.curve.push_back(point);
     TrackBrokenBonds(point.boundary_strain);
     const int index = static_cast<int>(r.curve.size()) - 1;
@@ -454,6 +486,27 @@ LabTestResult LabRun<Dim>::Run() {
       best = index;
       if (options_.record_snapshots) Snapshot("peak", &r.peak_snapshot);
     }
+  };
+  while (true) {
+    for (long done = 0; done < options_.sample_interval_steps;) {
+      const bool watch = guard_active() && options_.pause_on_breakage && speed_factor == 1.0;
+      run.max_steps = watch ? std::min<long>(check_steps, options_.sample_interval_steps - done)
+                            : options_.sample_interval_steps - done;
+      const RunSummary summary = simulation_->Run(run);
+      r.steps += summary.steps;
+      done += summary.steps;
+      if (watch && summary.broken_in_tension + summary.broken_in_shear > broken_before) {
+        // The state at the hold is a sample of its own: the load is at a local maximum there
+        // (the cascade relaxes it), so the peak is not missed between regular samples.
+        record(Sample());
+        RampPlatenSpeed(0.0);
+        speed_factor = 0.0;
+        paused_samples = -1;  // counted from the next sample
+        ++r.pauses;
+      }
+    }
+    const LabCurvePoint point = Sample();
+    record(point);
     if (Confined() && point.time_s >= load_start_s_ + ramp_s_)
       r.confinement_max_error = std::max(r.confinement_max_error, LateralStressError());
     const LabCurvePoint& peak = r.curve[best];
@@ -463,16 +516,28 @@ LabTestResult LabRun<Dim>::Run() {
       break;
     }
     if (point.boundary_strain >= strain_limit_) break;
-    if (guard && point.time_s >= load_start_s_ + ramp_s_) {
+    const long broken_now = point.broken_in_tension + point.broken_in_shear;
+    const bool breaking = options_.pause_on_breakage && broken_now > broken_before;
+    broken_before = broken_now;
+    if (guard_active()) {
       paused_samples = speed_factor == 0.0 ? paused_samples + 1 : 0;
-      const bool unsettled = point.kinetic_energy_j > kinetic_limit;
+      // Pause on a cascade's kinetic energy or on fresh breakage; while paused, wait for a
+      // quiet sample: no new broken bond and the kinetic energy below the affine one.
+      const bool unsettled =
+          speed_factor == 0.0
+              ? breaking || point.kinetic_energy_j > kinetic_limit / options_.pause_kinetic_energy_ratio
+              : breaking || point.kinetic_energy_j > kinetic_limit;
       const double target = unsettled && paused_samples < max_pause_samples ? 0.0 : 1.0;
       if (target != speed_factor) {
-        RampPlatenSpeed(speed_factor, target);
+        RampPlatenSpeed(target);
         speed_factor = target;
         if (target == 0.0) ++r.pauses;
       }
       if (speed_factor == 0.0) r.paused_steps += options_.sample_interval_steps;
+    } else if (guard && speed_factor == 0.0) {  // the pause budget is spent
+      RampPlatenSpeed(1.0);
+      speed_factor = 1.0;
+      guard_budget_spent_ = true;
     }
     if (options_.progress)
       options_.progress(std::clamp(point.boundary_strain / strain_limit_, 0.0, 1.0),
@@ -547,6 +612,9 @@ void LabRun<Dim>::Measure(LabTestResult* r) const {
   } else {
     m << "reached the strain limit " << Number(strain_limit_);
   }
+  if (guard_budget_spent_)
+    m << " (the quasi-static guard spent its pause budget, " << r->paused_steps
+      << " steps, and the platens moved on at constant speed)";
   r->termination_message = m.str();
 }
 

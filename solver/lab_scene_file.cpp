@@ -192,6 +192,8 @@ void ReadTest(const toml::table* table, const std::string& source, LabScene* sce
   t.Number("velocity_ramp_transits", &o.velocity_ramp_transits);
   t.Number("pause_kinetic_energy_ratio", &o.pause_kinetic_energy_ratio);
   t.Number("max_pause_transits", &o.max_pause_transits);
+  t.Boolean("pause_on_breakage", &o.pause_on_breakage);
+  t.Number("pause_ramp_transits", &o.pause_ramp_transits);
   t.Number("post_peak_fraction", &o.post_peak_stress_fraction);
   t.Number("strain_limit", &o.strain_limit);
   std::vector<double> window;

@@ -72,6 +72,8 @@ bool LabTestOptions::IsValid(std::string* error) const {
     return fail("pause_kinetic_energy_ratio", pause_kinetic_energy_ratio, ">= 0 (0: constant speed)");
   if (!(max_pause_transits > 0.0) || !finite(max_pause_transits))
     return fail("max_pause_transits", max_pause_transits, "> 0");
+  if (!(pause_ramp_transits >= 0.0) || !finite(pause_ramp_transits))
+    return fail("pause_ramp_transits", pause_ramp_transits, ">= 0");
   if (!(post_peak_stress_fraction > 0.0 && post_peak_stress_fraction < 1.0))
     return fail("post_peak_stress_fraction", post_peak_stress_fraction, "in (0, 1)");
   if (!(strain_limit >= 0.0 && strain_limit < 0.5))
