@@ -118,6 +118,8 @@ nlohmann::json ProtocolJson(const LabTestOptions& t) {
           {"platen_stiffness_ratio", t.platen_stiffness_ratio},
           {"platen_friction", t.platen_friction},
           {"pause_kinetic_energy_ratio", t.pause_kinetic_energy_ratio},
+          {"max_pause_transits", t.max_pause_transits},
+          {"velocity_ramp_transits", t.velocity_ramp_transits},
           {"strain_boundary_margin", t.strain_boundary_margin}};
 }
 
