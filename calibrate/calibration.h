@@ -24,6 +24,8 @@
 //    (E ~ kn and strengths ~ Rn exactly at fixed ratios), kt/kn by the maps' slope of nu,
 //    each scaled by the maps' change of the group the ratio change causes. The first round's
 //    deviation from the maps' prediction is the transfer error of the smaller sweep specimens.
+//    E and nu are the secants over the window x the target UCS (the stresses at which the
+//    rock's were measured), not x the specimen's own, path-dependent peak (VerificationRound).
 // 4. Stability verdict of the final set (time step and rho(B)) on the real UCS specimen.
 
 #include <optional>
@@ -126,7 +128,12 @@ struct VerificationRound {
   int round = 0;
   MaterialParameters material;
   MicroRatios ratios;
+  // E and nu over the secant window x the target UCS (window_at_target; else x this
+  // specimen's peak, when it failed below the window's end), the figures the errors and
+  // corrections use; the own-peak figures are Labra's definition, reported beside them.
   double youngs_modulus_pa = 0.0, poisson_ratio = 0.0, ucs_pa = 0.0, tensile_strength_pa = 0.0;
+  bool window_at_target = false;
+  double own_peak_youngs_modulus_pa = 0.0, own_peak_poisson_ratio = 0.0;
   double error_youngs = 0.0, error_poisson = 0.0, error_ucs = 0.0, error_tensile = 0.0;
   bool ucs_peak_reached = false, bts_peak_reached = false;
   double seconds = 0.0;

@@ -79,6 +79,11 @@ TEST(CalibrateToMaterial, RecoversAModelMadeTargetAndReusesItsMaps) {
   EXPECT_LE(std::abs(last.error_youngs), options.tolerance_youngs);
   EXPECT_LE(std::abs(last.error_poisson), options.tolerance_poisson);
   EXPECT_LE(std::abs(last.error_ucs), options.tolerance_ucs);
+  // E and nu are read at the target's stresses; with the UCS on target the window is the
+  // specimen's own one to within the UCS tolerance, so both readings agree closely.
+  EXPECT_TRUE(last.window_at_target);
+  EXPECT_NEAR(last.youngs_modulus_pa / last.own_peak_youngs_modulus_pa, 1.0, 0.01);
+  EXPECT_NEAR(last.poisson_ratio, last.own_peak_poisson_ratio, 0.01);
   // sigma_t is held to its tolerance only when the maps say sigma_c/sigma_t is reachable with
   // nu (a 300-disc Brazilian disc is too small for a reliable map of it); either way the
   // report must say which.
