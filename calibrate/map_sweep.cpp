@@ -384,7 +384,10 @@ MapSweep RunMapSweep(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts_pa
   for (int w = 1; w < workers; ++w) threads.emplace_back(worker);
   if (workers >= 1) worker();
   for (auto& t : threads) t.join();
-  if (!fatal.empty()) throw InputError("map sweep stopped: " + fatal);
+  if (!fatal.empty())
+    throw InputError("map sweep stopped on its specimens (UCS " + std::to_string(ucs_packing.size()) +
+                     " particles, Brazilian " + std::to_string(bts_packing.size()) + "): " + fatal +
+                     " (larger map specimens: more particles or a larger sweep share)");
 
   for (const SweepPoint& p : sweep.points) sweep.failed_points += p.ok ? 0 : 1;
   sweep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
