@@ -3,6 +3,7 @@
 
   tools/bench/calibration_bench.py [--build build] [--out bench-out/calibration]
                                    [--skip-ddem] [--skip-study] [--with-3d]
+                                   [--only labra,ddem,study,3d] [--ddem-count N] [--count-3d N]
 
 1. 2D, Labra's rock (data/materials/labra2012_rock.toml) on the default 5,000-disc specimen:
    a calibration that builds its maps, then the same calibration with the stored maps.
@@ -65,7 +66,32 @@ def main():
     parser.add_argument("--skip-ddem", action="store_true")
     parser.add_argument("--skip-study", action="store_true")
     parser.add_argument("--with-3d", action="store_true")
+    parser.add_argument("--only", default="",
+                        help="comma-separated cases to run: labra (maps built + stored), ddem, study, 3d")
+    parser.add_argument("--ddem-count", type=int, default=0,
+                        help="discs of the nu 0.27 (DDEM) UCS specimen, default: the calibrator's 5,000")
+    parser.add_argument("--count-3d", type=int, default=0,
+                        help="spheres of the 3D UCS specimen, default: the calibrator's 20,000")
+    parser.add_argument("--study-points", default="1000:3,1000:5,2500:3,2500:5,5000:4",
+                        help="specimen discs:sweep levels of the error-against-time study")
     args = parser.parse_args()
+    try:
+        study_points = [tuple(int(v) for v in p.split(":")) for p in args.study_points.split(",")]
+        if any(len(p) != 2 or p[0] < 500 or not 3 <= p[1] <= 12 for p in study_points):
+            raise ValueError
+    except ValueError:
+        parser.error("--study-points: expected N:L pairs (N >= 500 discs, L sweep levels in 3..12), got '%s'"
+                     % args.study_points)
+    cases = {"labra", "ddem", "study"} | ({"3d"} if args.with_3d else set())
+    if args.skip_ddem:
+        cases.discard("ddem")
+    if args.skip_study:
+        cases.discard("study")
+    if args.only:
+        cases = set(c.strip() for c in args.only.split(","))
+        unknown = cases - {"labra", "ddem", "study", "3d"}
+        if unknown:
+            parser.error("--only: unknown case(s) %s; allowed: labra, ddem, study, 3d" % ", ".join(sorted(unknown)))
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     materials = os.path.join(root, "data", "materials")
     shutil.rmtree(args.out, ignore_errors=True)
@@ -75,25 +101,30 @@ def main():
     print("%-34s %6s %3s %8s %8s %8s %8s %8s  %-4s %s" % ("case", "model", "rnd", "E err", "nu err", "UCS err",
                                                           "st err", "time s", "met", "reach"))
     labra = os.path.join(materials, "labra2012_rock.toml")
-    first = calibrate(args.build, labra, args.out, "labra_2d", maps)
-    row("2D Labra rock, maps built", first, (0.02, 0.02, 0.03))
-    again = calibrate(args.build, labra, args.out, "labra_2d_reuse", maps)
-    row("2D Labra rock, stored maps", again, (0.02, 0.02, 0.03))
-    results = [("labra_2d", first), ("labra_2d_reuse", again)]
-    if not args.skip_ddem:
-        high = calibrate(args.build, os.path.join(materials, "high_poisson_2d.toml"), args.out, "high_nu_2d", maps)
+    results = []
+    if "labra" in cases:
+        first = calibrate(args.build, labra, args.out, "labra_2d", maps)
+        row("2D Labra rock, maps built", first, (0.02, 0.02, 0.03))
+        again = calibrate(args.build, labra, args.out, "labra_2d_reuse", maps)
+        row("2D Labra rock, stored maps", again, (0.02, 0.02, 0.03))
+        results += [("labra_2d", first), ("labra_2d_reuse", again)]
+        print("maps built in %.0f s (%d points); stored maps: %s" % (
+            first["maps"]["sweep_seconds"], first["maps"]["sweep_points"], first["maps"]["file"]))
+        for note in first["notes"]:
+            print("  note:", note)
+    if "ddem" in cases:
+        extra = ["--count", str(args.ddem_count)] if args.ddem_count else []
+        high = calibrate(args.build, os.path.join(materials, "high_poisson_2d.toml"), args.out, "high_nu_2d", maps,
+                         extra)
         row("2D nu 0.27 (above DEM), auto", high, (0.03, 0.03, 0.03))
         results.append(("high_nu_2d", high))
-    if args.with_3d:
-        three = calibrate(args.build, labra, args.out, "labra_3d", maps, ["--dimension", "3"])
+    if "3d" in cases:
+        extra = ["--dimension", "3"] + (["--count", str(args.count_3d)] if args.count_3d else [])
+        three = calibrate(args.build, labra, args.out, "labra_3d", maps, extra)
         row("3D Labra rock", three, (0.03, 0.03, 0.05))
         results.append(("labra_3d", three))
-    print("maps built in %.0f s (%d points); stored maps: %s" % (
-        first["maps"]["sweep_seconds"], first["maps"]["sweep_points"], first["maps"]["file"]))
-    for note in first["notes"]:
-        print("  note:", note)
 
-    if not args.skip_study:
+    if "study" in cases:
         # Error of the maps' first prediction (round 1) against the time it took, as the
         # specimen grows and the sweep gets denser. Fresh maps each time.
         study = os.path.join(args.out, "error_vs_time.csv")
@@ -104,7 +135,7 @@ def main():
             print("\nerror of the first prediction against run time (fresh maps, one verification round)")
             print("%9s %6s %8s %8s %8s %8s %8s" % ("particles", "levels", "time s", "E err", "nu err", "UCS err",
                                                    "rms"))
-            for count, levels in [(1000, 3), (1000, 5), (2500, 3), (2500, 5), (5000, 4)]:
+            for count, levels in study_points:
                 d = os.path.join(args.out, "study_%d_%d" % (count, levels))
                 os.makedirs(d)
                 r = calibrate(args.build, labra, d, "c", os.path.join(d, "maps"),
