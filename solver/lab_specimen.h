@@ -38,6 +38,9 @@ struct LabSpecimen {
   // Bagi strain region: empty = every particle; else one flag per particle.
   std::vector<bool> strain_region;
   int rattlers = 0;  // particles with fewer than Dim contacts, left out of the strain region
+  // Margin the strain region was selected with [mean radii]: the requested one, or 0 for a
+  // Brazilian disc too thin for it (DescribeSpecimen).
+  double strain_margin_mean_radii = 0.0;
   // Pure shear: the boundary particles (surface within 0.5 r_mean of the domain boundary).
   std::vector<int> boundary_particles;
 };

@@ -12,6 +12,7 @@
 #include "generator/generate.h"
 #include "solver/lab_envelope.h"
 #include "solver/lab_measurement.h"
+#include "solver/lab_specimen.h"
 #include "solver/lab_test.h"
 
 namespace specimen {
@@ -110,6 +111,34 @@ TEST_F(LabBadInput, NoPeakWithinTheStrainLimitIsReported) {
   // The elastic constants are still measured, on the window of the largest stress.
   EXPECT_TRUE(r.elastic.measured);
   EXPECT_NE(r.BriefReport().find("no peak"), std::string::npos) << r.BriefReport();
+}
+
+TEST_F(LabBadInput, StrainMarginThatLeavesNoRegion) {
+  // 20 mean radii inside a 10 x 10 mm specimen of 300 discs (r ~ 0.3 mm) leaves nothing: a
+  // UCS, whose E and nu come from that region, is refused naming the margin ...
+  LabTestOptions ucs;
+  ucs.strain_boundary_margin = 20.0;
+  ExpectRefused(*packing_, ucs, {"strain_boundary_margin", "leaves"});
+  EXPECT_THROW(DescribeSpecimen<2>(*packing_, LabTestKind::kUniaxialCompression, 20.0), InputError);
+  EXPECT_EQ(DescribeSpecimen<2>(*packing_, LabTestKind::kUniaxialCompression, 2.0)
+                .strain_margin_mean_radii,
+            2.0);
+}
+
+TEST(LabSpecimenRegion, BrazilianDiscTooThinForTheMarginUsesTheWholeSkeleton) {
+  // ... while a Brazilian test, whose strength is the platen force (Labra (4.38)), measures
+  // its curve over the whole skeleton (rattlers still left out).
+  GeneratorOptions options = DefaultGeneratorOptions<2>();
+  options.particle_count = 200;
+  options.seed = 3;
+  const Packing<2> disc =
+      GeneratePacking<2>(Domain<2>::Disc(Vector<2>(0.005, 0.005), 0.005), options, nullptr);
+  const LabSpecimen<2> s = DescribeSpecimen<2>(disc, LabTestKind::kBrazilian, 20.0);
+  EXPECT_EQ(s.strain_margin_mean_radii, 0.0);
+  int inside = 0;
+  for (int q = 0; q < disc.size(); ++q)
+    inside += s.strain_region.empty() || s.strain_region[q] ? 1 : 0;
+  EXPECT_EQ(inside, disc.size() - s.rattlers);
 }
 
 TEST(LabMohrCoulomb, NeedsTwoDistinctConfinements) {
