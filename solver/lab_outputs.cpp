@@ -131,6 +131,16 @@ void WriteSnapshotVtu(const LabSnapshot& s, const Packing<Dim>& packing, std::os
   out << "</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
 }
 
+// The brief report as a plot title: its "; "-separated parts on two lines, so no figure is cut.
+std::string PlotTitle(const std::string& brief) {
+  std::string title = brief;
+  const size_t half = title.size() / 2;
+  size_t split = title.find("; ", half);
+  if (split == std::string::npos) split = title.rfind("; ", half);
+  if (split != std::string::npos) title.replace(split, 2, "\\n");
+  return title;
+}
+
 std::string StressStrainScript(const LabTestResult& r, const std::string& csv) {
   std::ostringstream s;
   const std::string file = GnuplotQuote(csv);
@@ -138,7 +148,7 @@ std::string StressStrainScript(const LabTestResult& r, const std::string& csv) {
     << "set key top left\nset grid\n"
     << "set ylabel '" << PlotStressLabel(r.kind) << "'\n"
     << "set y2label 'broken bonds'\nset ytics nomirror\nset y2tics\nset y2range [0:*]\n"
-    << "set title '" << r.BriefReport().substr(0, 120) << "' noenhanced font ',9'\n";
+    << "set title \"" << PlotTitle(r.BriefReport()) << "\" noenhanced font ',9'\n";
   const std::string bonds = "(column('broken_tension')+column('broken_shear'))";
   switch (r.kind) {
     case LabTestKind::kBrazilian:
