@@ -577,11 +577,6 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
   const HonouredStrength honoured = summary.inversion.strength_ratio_reached ? HonouredStrength::kCompressive
                                                                            : options.honour;
   const Eigen::VectorXd lower = chosen.maps.Lower(), upper = chosen.maps.Upper();
-  auto clamp_to_box = [&](MicroRatios r) {
-    std::vector<double> x = chosen.maps.InputsOf(r);
-    for (size_t k = 0; k < x.size(); ++k) x[k] = std::clamp(x[k], lower[k], upper[k]);
-    return chosen.maps.RatiosAt(x);
-  };
   auto at = [&](const MicroRatios& r) {
     const std::vector<double> x = chosen.maps.InputsOf(r);
     return Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())).eval();
@@ -634,30 +629,11 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     std::ostringstream what;
     MicroRatios next = ratios;
     if (!poisson_ok) {
-      const Eigen::VectorXd g = chosen.maps.poisson_ratio.Gradient(at(ratios));
-      int k_ratio = -1;
-      for (size_t k = 0; k < chosen.maps.inputs.size(); ++k)
-        if (chosen.maps.inputs[k] == MicroRatio::kStiffnessRatio) k_ratio = static_cast<int>(k);
-      double slope = k_ratio >= 0 ? g[k_ratio] : 0.0;
-      // After two rounds the measured secant replaces the maps' slope (the specimens differ),
-      // unless noise gives it the wrong sign.
-      const size_t n = summary.rounds.size();
-      if (n >= 2) {
-        const VerificationRound& a = summary.rounds[n - 2];
-        const double dx = v.ratios.tangential_to_normal_stiffness - a.ratios.tangential_to_normal_stiffness;
-        if (std::abs(dx) > 1e-6) {
-          const double secant = (v.poisson_ratio - a.poisson_ratio) / dx;
-          if (secant * slope > 0.0) slope = secant;
-        }
-      }
-      if (k_ratio >= 0 && std::abs(slope) > 1e-9) {
-        const double step = (target.poisson_ratio - v.poisson_ratio) / slope;
-        next.tangential_to_normal_stiffness += std::clamp(step, -0.5 * (upper[k_ratio] - lower[k_ratio]),
-                                                          0.5 * (upper[k_ratio] - lower[k_ratio]));
-        next = clamp_to_box(next);
-        what << "kt/kn " << ratios.tangential_to_normal_stiffness << " -> " << next.tangential_to_normal_stiffness
-             << "; ";
-      }
+      std::vector<PoissonRound> history;
+      for (const VerificationRound& r : summary.rounds) history.push_back({r.ratios, r.poisson_ratio});
+      const PoissonCorrection c = CorrectPoisson(chosen.maps, history, target.poisson_ratio);
+      next = c.next;
+      what << c.what;
     }
     // How E/kn and strength/Rn change with the ratio change: from the last two rounds when
     // kt/kn moved between them (measured on this specimen), else from the maps.

@@ -2,10 +2,12 @@
 
 #include <nlopt.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
@@ -315,6 +317,63 @@ std::string InversionResult::FullReport() const {
   out << line;
   for (const auto& note : notes) out << "  note: " << note << "\n";
   return out.str();
+}
+
+namespace {
+
+// One lever of CorrectPoisson: moves `field` of *next to remove `share` of the last round's
+// nu error; returns the share the box did not let it remove (0: all of it).
+double MovePoisson(const MapSet& maps, const std::vector<PoissonRound>& history, double target_poisson,
+                   double share, MicroRatio input, double MicroRatios::*field, PoissonCorrection* c) {
+  int k = -1;
+  for (size_t i = 0; i < maps.inputs.size(); ++i)
+    if (maps.inputs[i] == input) k = static_cast<int>(i);
+  if (k < 0) return share;
+  auto at = [&](const MicroRatios& r) {
+    const std::vector<double> x = maps.InputsOf(r);
+    return Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())).eval();
+  };
+  const PoissonRound& now = history.back();
+  double slope = maps.poisson_ratio.Gradient(at(c->next))[k];
+  if (history.size() >= 2) {
+    const PoissonRound& before = history[history.size() - 2];
+    const Eigen::VectorXd moved = at(now.ratios) - at(before.ratios);
+    bool only_this = std::abs(moved[k]) > 1e-6;
+    for (Eigen::Index i = 0; i < moved.size(); ++i)
+      if (i != k && std::abs(moved[i]) > 1e-9) only_this = false;
+    if (only_this) {
+      const double secant = (now.poisson_ratio - before.poisson_ratio) / moved[k];
+      if (secant * slope > 0.0) slope = secant;
+    }
+  }
+  if (std::abs(slope) <= 1e-9) return share;
+  const Eigen::VectorXd lower = maps.Lower(), upper = maps.Upper();
+  const double half_box = 0.5 * (upper[k] - lower[k]);
+  const double step = std::clamp(share * (target_poisson - now.poisson_ratio) / slope, -half_box, half_box);
+  const double from = c->next.*field;
+  std::vector<double> x = maps.InputsOf(c->next);
+  x[k] = std::clamp(x[k] + step, lower[k], upper[k]);
+  c->next = maps.RatiosAt(x);
+  const double taken = c->next.*field - from;
+  std::ostringstream what;
+  what << MicroRatioName(input) << " " << from << " -> " << c->next.*field << "; ";
+  c->what += what.str();
+  return share * std::clamp(1.0 - taken / step, 0.0, 1.0);
+}
+
+}  // namespace
+
+PoissonCorrection CorrectPoisson(const MapSet& maps, const std::vector<PoissonRound>& history,
+                                 double target_poisson) {
+  if (history.empty()) throw std::invalid_argument("CorrectPoisson: no round to correct");
+  PoissonCorrection c;
+  c.next = history.back().ratios;
+  const double left = MovePoisson(maps, history, target_poisson, 1.0, MicroRatio::kStiffnessRatio,
+                                  &MicroRatios::tangential_to_normal_stiffness, &c);
+  if (left > 0.5)
+    MovePoisson(maps, history, target_poisson, left, MicroRatio::kParticleCompliance,
+                &MicroRatios::normal_stiffness_to_particle, &c);
+  return c;
 }
 
 }  // namespace specimen

@@ -89,4 +89,21 @@ struct InversionResult {
 InversionResult InvertMaps(const MapSet& maps, const PackingDescriptors& packing,
                            const TargetMaterial& target, const InversionOptions& options);
 
+// Correction of nu between verification rounds (calibrate-to-material, verification).
+struct PoissonRound {
+  MicroRatios ratios;           // the round's ratios
+  double poisson_ratio = 0.0;   // the nu it measured
+};
+struct PoissonCorrection {
+  MicroRatios next;  // ratios for the next round (inside the maps' box)
+  std::string what;  // e.g. "kt/kn 0.15 -> 0.15; kn/(Ep l) 0.0875 -> 0.21; "
+};
+// Moves kt/kn so that nu reaches the target; in DDEM maps, the share of the step the box does
+// not allow kt/kn goes to kn/(Ep l) (it raises nu, Madan 4.10; the box keeps rho(B) within its
+// bound). Each slope is the secant of the last two rounds when only that ratio moved between
+// them and it agrees in sign with the maps' gradient, else the gradient; a step is at most half
+// the box. `history` holds the rounds so far, the last one current (not empty).
+PoissonCorrection CorrectPoisson(const MapSet& maps, const std::vector<PoissonRound>& history,
+                                 double target_poisson);
+
 }  // namespace specimen

@@ -12,6 +12,7 @@
 #include "calibrate/calibration_outputs.h"
 #include "common/error.h"
 #include "solver/lab_scene_file.h"
+#include "tests/generator/scratch_directory.h"
 
 namespace specimen {
 namespace {
@@ -66,8 +67,9 @@ TargetMaterial ModelMadeTarget() {
 }
 
 TEST(CalibrateToMaterial, RecoversAModelMadeTargetAndReusesItsMaps) {
-  const fs::path maps = fs::temp_directory_path() / "specimen_calibration_maps";
-  fs::remove_all(maps);
+  // Fresh directories per run: two test runs on one machine (worktrees) must not share maps.
+  const ScratchDirectory scratch;
+  const fs::path maps = fs::path(scratch.path()) / "maps";
   const TargetMaterial target = ModelMadeTarget();
   const CalibrationOptions options = SmallOptions(maps);
   const CalibrationSummary first = CalibrateToMaterial<2>(Specimens(), target, options);
@@ -103,8 +105,7 @@ TEST(CalibrateToMaterial, RecoversAModelMadeTargetAndReusesItsMaps) {
   EXPECT_EQ(second.sweep_seconds, 0.0);
 
   // The outputs: the scenes are valid run-test scenes with the calibrated material.
-  const fs::path out = fs::temp_directory_path() / "specimen_calibration_out";
-  fs::remove_all(out);
+  const fs::path out = fs::path(scratch.path()) / "out";
   CalibrationOutputOptions output;
   output.directory = out.string();
   output.name = "cal";
@@ -130,8 +131,6 @@ TEST(CalibrateToMaterial, RecoversAModelMadeTargetAndReusesItsMaps) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("another packing"), std::string::npos) << e.what();
   }
-  fs::remove_all(maps);
-  fs::remove_all(out);
 }
 
 TEST(CalibrateToMaterial, InvalidOptionsAndTargetsAreRefusedBeforeAnyWork) {

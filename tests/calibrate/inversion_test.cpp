@@ -141,5 +141,52 @@ TEST(InvertMaps, DeformableParticlesReachAPoissonRatioAboveTheRigidLimitWithinTh
   EXPECT_FALSE(beyond.notes.empty());
 }
 
+// Verification corrections of nu (CorrectPoisson) on the DDEM maps above, where
+// d nu / d(kt/kn) = -1/4 and d nu / d(kn/(Ep l)) = (nu_p - 1/4) / 2.
+MicroRatios Ddem(double kt_over_kn, double compliance) {
+  MicroRatios r;
+  r.tangential_to_normal_stiffness = kt_over_kn;
+  r.shear_to_tensile_strength = 10.0;
+  r.normal_stiffness_to_particle = compliance;
+  r.particle_poisson_ratio = 0.45;
+  return r;
+}
+
+TEST(CorrectPoisson, MovesKtOverKnByTheMapsSlope) {
+  const MapSet maps = DeformableMaps();
+  const auto c = CorrectPoisson(maps, {{Ddem(0.5, 0.1), 0.20}}, 0.22);
+  EXPECT_NEAR(c.next.tangential_to_normal_stiffness, 0.5 - 0.02 / 0.25, 1e-6);
+  EXPECT_NEAR(c.next.normal_stiffness_to_particle, 0.1, 1e-12);
+  EXPECT_NE(c.what.find("kt/kn"), std::string::npos) << c.what;
+}
+
+TEST(CorrectPoisson, UsesTheMeasuredSecantWhenOnlyKtOverKnMoved) {
+  // Two rounds: nu fell by 0.01 over +0.1 of kt/kn (the real specimen: -0.1 per unit, the
+  // maps say -0.25); to raise nu by 0.01 the secant asks for -0.1 of kt/kn.
+  const MapSet maps = DeformableMaps();
+  const auto c = CorrectPoisson(maps, {{Ddem(0.4, 0.1), 0.21}, {Ddem(0.5, 0.1), 0.20}}, 0.21);
+  EXPECT_NEAR(c.next.tangential_to_normal_stiffness, 0.4, 1e-6);
+  // A secant of the wrong sign (noise) is not trusted: the maps' slope is used.
+  const auto noisy = CorrectPoisson(maps, {{Ddem(0.4, 0.1), 0.19}, {Ddem(0.5, 0.1), 0.20}}, 0.21);
+  EXPECT_NEAR(noisy.next.tangential_to_normal_stiffness, 0.5 - 0.01 / 0.25, 1e-6);
+}
+
+TEST(CorrectPoisson, DeformableParticlesTakeTheStepKtOverKnCannot) {
+  // kt/kn is at the box's lower end (0), nu must still rise: kn/(Ep l) takes the step,
+  // 0.02 / ((0.45 - 0.25) / 2) = 0.2, and stays within the box (the stability bound).
+  const MapSet maps = DeformableMaps();
+  const auto c = CorrectPoisson(maps, {{Ddem(0.0, 0.1), 0.25}}, 0.27);
+  EXPECT_NEAR(c.next.tangential_to_normal_stiffness, 0.0, 1e-12);
+  EXPECT_NEAR(c.next.normal_stiffness_to_particle, 0.3, 1e-6) << c.what;
+  EXPECT_NE(c.what.find("kn/(Ep l)"), std::string::npos) << c.what;
+  // A step beyond the box stops at its end.
+  const auto far = CorrectPoisson(maps, {{Ddem(0.0, 0.5), 0.25}}, 0.30);
+  EXPECT_NEAR(far.next.normal_stiffness_to_particle, 0.6, 1e-9);
+  // Rigid maps have no such lever: kt/kn stays at its end.
+  const auto rigid = CorrectPoisson(RigidMaps(), {{Ddem(0.0, 0.0), 0.24}}, 0.26);
+  EXPECT_NEAR(rigid.next.tangential_to_normal_stiffness, 0.0, 1e-12);
+}
+
+
 }  // namespace
 }  // namespace specimen

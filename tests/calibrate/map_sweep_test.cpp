@@ -11,6 +11,7 @@
 #include "common/error.h"
 #include "generator/generate.h"
 #include "generator/metrics.h"
+#include "tests/generator/scratch_directory.h"
 
 namespace specimen {
 namespace {
@@ -93,8 +94,8 @@ TEST(SweepDesign, InvalidDesignsNameTheAxisAndRange) {
 // rises with kt/kn; the journal makes a second call run nothing; a torn line is skipped.
 TEST(MapSweep, MeasuresTheVoigtTrendsAndResumesFromTheJournal) {
   const Specimens& s = Shared();
-  const fs::path journal = fs::temp_directory_path() / "specimen_sweep_journal.jsonl";
-  fs::remove(journal);
+  const ScratchDirectory scratch;  // not shared with another test run on this machine
+  const fs::path journal = fs::path(scratch.File("sweep_journal.jsonl"));
   MapSweepOptions options = SmallOptions();
   options.journal_path = journal.string();
   const SweepDesign design = TwoByTwo();
@@ -183,7 +184,8 @@ TEST(MapStore, RoundTripAndPackingCheck) {
   EXPECT_EQ(stored.maps.poisson_ratio.Gradient(Eigen::Vector2d(0.5, 4.0))[1], 0.0);
   EXPECT_NEAR(stored.maps.poisson_ratio.Evaluate(Eigen::Vector2d(0.5, 7.0)), 0.125, 1e-9);
 
-  const fs::path path = fs::temp_directory_path() / "specimen_maps_test.json";
+  const ScratchDirectory scratch;
+  const fs::path path = fs::path(scratch.File("maps_test.json"));
   SaveStoredMaps(stored, path.string());
   const StoredMaps back = LoadStoredMaps(path.string());
   EXPECT_EQ(back.key, stored.key);
