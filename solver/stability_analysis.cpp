@@ -300,9 +300,8 @@ BoundaryResult<Dim> CriticalStep(const LinearisedNetwork<Dim>& network,
 // benchmark (tools/bench/stability_bench.py): alpha = 0.05 did in 2D, not in 3D; 0.1 did in
 // both (kt = kn and 1.25 kn, kn/(Ep l) at half its limit).
 constexpr double kFlutterDamping = 0.1;
-// Damping (local alpha or dashpot ratio) from which impacts at walls are not given the
-// unilateral contact factor: alpha = 0.1 held every step up to the linear limit in the
-// benchmark's wall scans (2D and 3D), 0.05 did not (a failure at 0.99 of it in 2D).
+// Damping (local alpha or dashpot ratio) from which impacts at walls are not given a
+// unilateral contact factor (DampedUnilateralFactor).
 constexpr double kImpactDamping = 0.1;
 
 struct Limit {
@@ -313,6 +312,14 @@ struct Limit {
 };
 
 }  // namespace
+
+double DampedUnilateralFactor(double damping) {
+  // The wall scans of tools/bench/stability_bench.md (header): in 2D the first failures were
+  // at 0.89 of the linear limit undamped, 0.99 with alpha = 0.05, none with alpha = 0.1.
+  if (damping < 0.05) return 0.85;
+  if (damping < kImpactDamping) return 0.94;
+  return 1.0;
+}
 
 bool StabilityOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& field, double value, const std::string& range) {
@@ -325,8 +332,9 @@ bool StabilityOptions::IsValid(std::string* error) const {
     return fail("safety_factor", safety_factor, "in (0, 1]");
   if (!(time_step_margin >= 0.0 && time_step_margin < 0.5))
     return fail("time_step_margin", time_step_margin, "in [0, 0.5)");
-  if (!(unilateral_contact_factor > 0.0 && unilateral_contact_factor <= 1.0))
-    return fail("unilateral_contact_factor", unilateral_contact_factor, "in (0, 1]");
+  if (!(unilateral_contact_factor >= 0.0 && unilateral_contact_factor <= 1.0))
+    return fail("unilateral_contact_factor", unilateral_contact_factor,
+                "in [0, 1] (0: graded by the damping)");
   if (!(max_spectral_radius > 0.0 && max_spectral_radius <= 1.0))
     return fail("max_spectral_radius", max_spectral_radius, "in (0, 1]");
   if (!(ddem_relative_tolerance > 0.0 && ddem_relative_tolerance < 0.5))
@@ -507,19 +515,23 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
   }
   // Unilateral wall contacts, weakly damped: contacts that open and close (impacts) make the
   // scheme piecewise linear, and central differences then grow at some steps below the
-  // linear limit (header); the scene is held to unilateral_contact_factor x that limit.
+  // linear limit (header); the scene is held to the damping-graded factor (or the option's)
+  // x that limit.
   s.linear_critical_time_step_s = s.critical_time_step_s;
   {
-    const double alpha = std::max(material.translational_damping, material.rotational_damping);
-    const double xi = std::max(material.normal_dashpot_ratio, material.tangential_dashpot_ratio);
+    const double damping =
+        std::max({material.translational_damping, material.rotational_damping,
+                  material.normal_dashpot_ratio, material.tangential_dashpot_ratio});
     s.unilateral_contacts = s.wall_links > 0;
-    if (s.unilateral_contacts && alpha < kImpactDamping && xi < kImpactDamping &&
+    if (s.unilateral_contacts && damping < kImpactDamping &&
         std::isfinite(s.critical_time_step_s)) {
-      s.unilateral_factor = options.unilateral_contact_factor;
+      s.unilateral_factor = options.unilateral_contact_factor > 0.0
+                                ? options.unilateral_contact_factor
+                                : DampedUnilateralFactor(damping);
       s.critical_time_step_s *= s.unilateral_factor;
       s.critical_time_step_method +=
-          "; x " + Number(s.unilateral_factor, 3) +
-          " for the unilateral wall contacts of a weakly damped scene (impacts)";
+          "; x " + Number(s.unilateral_factor, 3) + " for the unilateral wall contacts of " +
+          (damping == 0.0 ? "an undamped" : "a weakly damped") + " scene (impacts)";
     }
   }
   // Madan assumption 5 makes DDEM with tangential springs non-conservative (header).
@@ -603,7 +615,7 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
         "walls hold only in compression: a particle meeting or leaving a wall is an impact, "
         "and central differences on contacts that open and close can grow below the linear "
         "limit (the critical step holds a factor " +
-        Number(options.unilateral_contact_factor, 3) +
+        Number(s.unilateral_factor, 3) +
         " for it, from the benchmark, not a proof); local damping alpha >= 0.1 is safer");
   if (s.rattlers_without_neighbour > 0)
     s.warnings.push_back(std::to_string(s.rattlers_without_neighbour) +
