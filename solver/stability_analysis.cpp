@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "common/error.h"
@@ -296,6 +297,103 @@ BoundaryResult<Dim> CriticalStep(const LinearisedNetwork<Dim>& network,
   return result;
 }
 
+// The DDEM step of normal springs without dashpots, without inner solves. With
+// A = K_n^1/2 C M^-1/2 (links x degrees of freedom), the boundary operator is
+// H = A^T (I - S)^-1 A, and its nonzero eigenvalues are those of the symmetric-definite pencil
+// A A^T v = lambda (I - S) v on the links (v = (I - S)^-1 A x). So lambda* = lambda_max(H) is
+// the root of phi(lambda) = lambda, phi(lambda) = lambda_max(A A^T + lambda S): above lambda*,
+// A A^T - lambda (I - S) is negative definite (phi < lambda), below it is not (phi > lambda).
+// phi is convex with slope y^T S y in [0, rho(B)] (y its unit top eigenvector), so Newton
+// from a lower bound climbs to lambda*; each phi is a plain Lanczos solve whose product is
+// one pass of the network and one of the DDEM operator (H needs a CG solve per product).
+// Certificate: a lambda_c whose certified bound of phi(lambda_c) is <= lambda_c is >= lambda*.
+// As phi has slope s at the root, that bound needs the relative tolerance (1 - s) x the gap
+// lambda_c / lambda* - 1. Returns nothing when no certificate was reached (the caller then
+// takes the inner-solve path).
+template <int Dim>
+std::optional<BoundaryResult<Dim>> PencilCriticalStep(const LinearisedNetwork<Dim>& network,
+                                                      const ParticleCompliance<Dim>& compliance,
+                                                      const StabilityOptions& options,
+                                                      const LanczosOptions& lanczos,
+                                                      double local_damping_factor,
+                                                      double lower_bound) {
+  const auto start = std::chrono::steady_clock::now();
+  const int links = network.link_count();
+  std::vector<double> deformation;
+  int iterations = 0;
+  // phi(shift) by Lanczos on A A^T + shift S.
+  auto solve = [&](double shift, LanczosOptions o) {
+    const LanczosResult r = LargestEigenvalue(
+        links,
+        [&](const std::vector<double>& v, std::vector<double>& y) {
+          network.ApplyPencilOperator(compliance, shift, v, y);
+        },
+        o);
+    iterations += r.iterations;
+    return r;
+  };
+  // d phi / d shift = y^T S y (Hellmann-Feynman).
+  auto slope_of = [&](const std::vector<double>& y) {
+    network.ApplyDdemOperator(compliance, y, deformation);
+    double ysy = 0.0, yy = 0.0;
+    for (int c = 0; c < links; ++c) {
+      ysy += y[c] * deformation[c];
+      yy += y[c] * y[c];
+    }
+    return std::clamp(ysy / yy, 0.0, 1.0 - 1e-9);
+  };
+  // Newton on phi(lambda) - lambda, from the lower bound lambda_max(A A^T) (= DEM).
+  const double tolerance = options.ddem_relative_tolerance;
+  LanczosOptions newton = lanczos;
+  newton.compute_ritz_vector = true;
+  newton.relative_tolerance = tolerance;
+  newton.max_iterations = std::min(newton.max_iterations, 30);
+  double lambda = lower_bound, slope = 0.0;
+  bool exact = false;
+  int newton_steps = 0;
+  for (; newton_steps < 50; ++newton_steps) {
+    const LanczosResult r = solve(lambda, newton);
+    exact = r.exact;
+    slope = slope_of(r.ritz_vector);
+    const double next = lambda + (r.ritz_value - lambda) / (1.0 - slope);
+    const double step = next - lambda;
+    lambda = std::max(next, lower_bound);
+    if (std::abs(step) <= (exact ? 1e-13 : 0.2 * tolerance) * lambda) break;
+  }
+  // The certificate, with a gap of the tolerance (exact solves: round-off).
+  double gap = exact ? 1e-10 : tolerance;
+  LanczosOptions check = lanczos;
+  check.compute_ritz_vector = false;
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    const double certified = lambda * (1.0 + gap);
+    check.relative_tolerance = std::clamp((1.0 - slope) * gap / 2.0, 1e-12, 0.4);
+    const LanczosResult r = solve(certified, check);
+    if (r.certified_upper_bound <= certified) {
+      BoundaryResult<Dim> result;
+      result.lanczos = r;
+      result.lanczos.ritz_value = lambda;
+      result.lanczos.certified_upper_bound = certified;
+      result.lanczos.relative_tolerance = gap;
+      result.lanczos.iterations = iterations;
+      result.lanczos.exact = exact;
+      result.lanczos.seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      result.undamped_s = TimeStepOf(certified, 1.0);
+      result.undamped_ritz_s = TimeStepOf(lambda, 1.0);
+      result.critical_s = result.undamped_s * local_damping_factor;
+      result.ritz_s = result.undamped_ritz_s * local_damping_factor;
+      result.fixed_point_iterations = newton_steps + attempt + 1;
+      return result;
+    }
+    // Not certified (the tolerance reached, the round-off allowance of an exact solve, or
+    // lambda below lambda*): a wider gap, for the bound's excess over the Ritz value.
+    const double excess = r.certified_upper_bound / r.ritz_value - 1.0;
+    gap = std::max(2.0 * gap, 1.5 * excess / (1.0 - slope));
+    if (r.ritz_value > certified) lambda = r.ritz_value;
+  }
+  return std::nullopt;
+}
+
 // Damping (local alpha or dashpot ratio) that held the flutter of DDEM with kt > 0 in the
 // benchmark (tools/bench/stability_bench.py): alpha = 0.05 did in 2D, not in 3D; 0.1 did in
 // both (kt = kn and 1.25 kn, kn/(Ep l) at half its limit).
@@ -492,9 +590,17 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
     // one; a tenfold allowance.
     const double inexact_margin =
         10.0 * options.inner_tolerance / std::max(1e-3, 1.0 - s.spectral_radius);
+    // Normal springs only, no dashpots: the pencil, without inner solves.
+    std::optional<BoundaryResult<Dim>> pencil;
+    if (!network.has_tangential() && !network.has_rotation() && !network.has_dashpots() &&
+        !options.ddem_inner_solves)
+      pencil = PencilCriticalStep<Dim>(network, compliance, options, lanczos,
+                                       s.local_damping_factor, dem_ritz);
+    s.ddem_time_step_inner_solves = !pencil;
     const BoundaryResult<Dim> ddem =
-        CriticalStep<Dim>(network, &compliance, options, lanczos, s.local_damping_factor,
-                          std::numeric_limits<double>::infinity(), inexact_margin);
+        pencil ? *pencil
+               : CriticalStep<Dim>(network, &compliance, options, lanczos, s.local_damping_factor,
+                                   std::numeric_limits<double>::infinity(), inexact_margin);
     s.ddem_eigenvalue = Report(ddem.lanczos);
     s.ddem_eigenvalue.inner_iterations = static_cast<int>(ddem.inner_iterations);
     s.ddem_time_step_ritz_s = ddem.ritz_s;

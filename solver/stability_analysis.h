@@ -42,7 +42,11 @@
 //    springs the tangential forces enter the strain but are not corrected by it (Madan
 //    assumption 5), K_eff is not symmetric, and its symmetric part is used: its largest
 //    eigenvalue bounds the real eigenvalues of K_eff from above (field of values) and equals
-//    them to first order. (I - L)^-1 is applied by conjugate gradients on I - S. As rho(B) -> 1
+//    them to first order. (I - L)^-1 is applied by conjugate gradients on I - S; with kt = 0
+//    and no dashpots no inner solve is needed: with A = K_n^1/2 C M^-1/2 the operator is
+//    A^T (I - S)^-1 A, whose nonzero eigenvalues are those of the pencil
+//    A A^T v = lambda (I - S) v on the links, and lambda_max is the fixed point of
+//    lambda_max(A A^T + lambda S) = lambda (Newton, then certified). As rho(B) -> 1
 //    the DDEM step falls to zero: the two limits interact (note 3.7 item 3).
 //    Dashpots enter as in item 1 (their forces also enter the particle stress).
 // 4. Verdict for the proposed (or the recommended) time step: unstable beyond a limit,
@@ -103,6 +107,9 @@ struct StabilityOptions {
   // certified bound allows for the inexact products (10 tau / (1 - rho(B)) relative).
   double inner_tolerance = 1e-5;
   int inner_max_iterations = 20000;
+  // The DDEM step of normal springs without dashpots is found without inner solves (the
+  // pencil, header item 3); true: by the inner solves anyway (for comparison and tests).
+  bool ddem_inner_solves = false;
   // Particles whose gap to a wall is below this are linked to it [m]; < 0: those within
   // contacts.bond_gap_tolerance x R (touching). The Simulation passes its search skin (the
   // particles a wall may touch, as its per-particle bound counts them).
@@ -180,6 +187,7 @@ struct StabilitySummary {
   double ddem_reduction_percent = 0.0;  // 100 (1 - ddem / dem)
   EigenvalueReport ddem_eigenvalue;
   bool ddem_time_step_available = false;
+  bool ddem_time_step_inner_solves = false;  // false: the pencil (kt = 0, no dashpots)
   // DDEM with tangential springs: the tangential forces enter the particle stress but the
   // strain does not move the contact points tangentially (Madan assumption 5), so the model
   // is not conservative and undamped runs grow slowly (flutter) at any time step.

@@ -3,8 +3,9 @@
 // tangential springs, near-incompressible particles, kn/(Ep l) close to the limit,
 // Ep -> infinity, particles of radius 1e-5 m, 2D and 3D. For each, the prediction must be on
 // the safe side and within 3 %: a real undamped solver run from random velocities stays
-// bounded at the predicted (certified) critical step and diverges at 1.03 times it. Also: a
-// small 2D packing between walls 10 kn (impacts) runs bounded at the recommended step.
+// bounded at the predicted (certified) critical step and diverges at 1.03 times it. Also: the
+// DDEM step of normal springs without inner solves (the pencil) equals the inner-solve one,
+// and a small 2D packing between walls 10 kn (impacts) runs bounded at the recommended step.
 
 #include <gtest/gtest.h>
 
@@ -153,6 +154,52 @@ TEST(StabilityExtremeCases, GeneratedSpheres) {
   const Packing<3> packing = Generated<3>(120, 1e-4);
   Check(packing, {"DEM kt/kn = 1", 1.0});
   Check(packing, {"DDEM nu_p 0.49 at 0.5 of the limit", 0.0, 0.49, 0.5});
+}
+
+// kt = 0, no dashpots: the pencil (no inner solves) and the inner-solve operator give the
+// same DDEM step. Exact Lanczos (small systems): the Ritz values agree to 1e-6 (the inner
+// solves to 1e-12); certified (exact_dimension 0, a few hundred unknowns): both on the safe
+// side of the exact value and within the tolerance.
+template <int Dim>
+void CheckPencil(const Packing<Dim>& packing, double limit_fraction, double nu_p) {
+  SCOPED_TRACE(std::to_string(Dim) + "D, " + std::to_string(limit_fraction) + " of the limit");
+  Case c{"pencil", 0.0, nu_p, limit_fraction};
+  const StabilitySummary rigid =
+      AnalyseStability<Dim>(packing, SceneOf<Dim>(c, 0.0), StabilityOptions());
+  const SceneOptions<Dim> scene =
+      SceneOf<Dim>(c, rigid.convergence_eigenvalue.ritz_value / limit_fraction);
+  StabilityOptions options;
+  options.lanczos.exact_dimension = 2000;
+  const StabilitySummary pencil = AnalyseStability<Dim>(packing, scene, options);
+  options.ddem_inner_solves = true;
+  options.inner_tolerance = 1e-12;
+  const StabilitySummary inner = AnalyseStability<Dim>(packing, scene, options);
+  ASSERT_TRUE(pencil.ddem_time_step_available);
+  EXPECT_FALSE(pencil.ddem_time_step_inner_solves);
+  EXPECT_TRUE(inner.ddem_time_step_inner_solves);
+  EXPECT_TRUE(pencil.ddem_eigenvalue.exact);
+  const double exact = inner.ddem_time_step_ritz_s;
+  EXPECT_NEAR(pencil.ddem_time_step_ritz_s, exact, 1e-6 * exact);
+  EXPECT_NEAR(pencil.ddem_critical_time_step_s, inner.ddem_critical_time_step_s, 1e-6 * exact);
+  EXPECT_GT(pencil.ddem_reduction_percent, 1.0);
+  // Certified (no exact shortcut).
+  StabilityOptions certified;
+  certified.lanczos.exact_dimension = 0;
+  const StabilitySummary bound = AnalyseStability<Dim>(packing, scene, certified);
+  EXPECT_FALSE(bound.ddem_time_step_inner_solves);
+  EXPECT_LE(bound.ddem_critical_time_step_s, exact);
+  EXPECT_GE(bound.ddem_critical_time_step_s,
+            exact / std::sqrt(1.0 + 2.0 * certified.ddem_relative_tolerance));
+  EXPECT_NEAR(bound.ddem_time_step_ritz_s, exact, 1e-3 * exact);
+  std::printf("%dD pencil: dt %.8e s, inner solves %.8e s; certified %.6e s (%d steps)\n", Dim,
+              pencil.ddem_time_step_ritz_s, exact, bound.ddem_critical_time_step_s,
+              bound.ddem_eigenvalue.iterations);
+}
+
+TEST(StabilityExtremeCases, PencilEqualsInnerSolves) {
+  CheckPencil(Generated<2>(150, 1e-4), 0.5, 0.25);
+  CheckPencil(Generated<2>(150, 1e-4), 0.95, 0.45);
+  CheckPencil(Generated<3>(120, 1e-4), 0.9, 0.25);
 }
 
 // Walls 10 kn on every side of a small 2D packing, undamped: the wall contacts open and close
