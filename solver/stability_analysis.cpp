@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "common/error.h"
@@ -296,13 +297,109 @@ BoundaryResult<Dim> CriticalStep(const LinearisedNetwork<Dim>& network,
   return result;
 }
 
+// The DDEM step of normal springs without dashpots, without inner solves. With
+// A = K_n^1/2 C M^-1/2 (links x degrees of freedom), the boundary operator is
+// H = A^T (I - S)^-1 A, and its nonzero eigenvalues are those of the symmetric-definite pencil
+// A A^T v = lambda (I - S) v on the links (v = (I - S)^-1 A x). So lambda* = lambda_max(H) is
+// the root of phi(lambda) = lambda, phi(lambda) = lambda_max(A A^T + lambda S): above lambda*,
+// A A^T - lambda (I - S) is negative definite (phi < lambda), below it is not (phi > lambda).
+// phi is convex with slope y^T S y in [0, rho(B)] (y its unit top eigenvector), so Newton
+// from a lower bound climbs to lambda*; each phi is a plain Lanczos solve whose product is
+// one pass of the network and one of the DDEM operator (H needs a CG solve per product).
+// Certificate: a lambda_c whose certified bound of phi(lambda_c) is <= lambda_c is >= lambda*.
+// As phi has slope s at the root, that bound needs the relative tolerance (1 - s) x the gap
+// lambda_c / lambda* - 1. Returns nothing when no certificate was reached (the caller then
+// takes the inner-solve path).
+template <int Dim>
+std::optional<BoundaryResult<Dim>> PencilCriticalStep(const LinearisedNetwork<Dim>& network,
+                                                      const ParticleCompliance<Dim>& compliance,
+                                                      const StabilityOptions& options,
+                                                      const LanczosOptions& lanczos,
+                                                      double local_damping_factor,
+                                                      double lower_bound) {
+  const auto start = std::chrono::steady_clock::now();
+  const int links = network.link_count();
+  std::vector<double> deformation;
+  int iterations = 0;
+  // phi(shift) by Lanczos on A A^T + shift S.
+  auto solve = [&](double shift, LanczosOptions o) {
+    const LanczosResult r = LargestEigenvalue(
+        links,
+        [&](const std::vector<double>& v, std::vector<double>& y) {
+          network.ApplyPencilOperator(compliance, shift, v, y);
+        },
+        o);
+    iterations += r.iterations;
+    return r;
+  };
+  // d phi / d shift = y^T S y (Hellmann-Feynman).
+  auto slope_of = [&](const std::vector<double>& y) {
+    network.ApplyDdemOperator(compliance, y, deformation);
+    double ysy = 0.0, yy = 0.0;
+    for (int c = 0; c < links; ++c) {
+      ysy += y[c] * deformation[c];
+      yy += y[c] * y[c];
+    }
+    return std::clamp(ysy / yy, 0.0, 1.0 - 1e-9);
+  };
+  // Newton on phi(lambda) - lambda, from the lower bound lambda_max(A A^T) (= DEM).
+  const double tolerance = options.ddem_relative_tolerance;
+  LanczosOptions newton = lanczos;
+  newton.compute_ritz_vector = true;
+  newton.relative_tolerance = tolerance;
+  newton.max_iterations = std::min(newton.max_iterations, 30);
+  double lambda = lower_bound, slope = 0.0;
+  bool exact = false;
+  int newton_steps = 0;
+  for (; newton_steps < 50; ++newton_steps) {
+    const LanczosResult r = solve(lambda, newton);
+    exact = r.exact;
+    slope = slope_of(r.ritz_vector);
+    const double next = lambda + (r.ritz_value - lambda) / (1.0 - slope);
+    const double step = next - lambda;
+    lambda = std::max(next, lower_bound);
+    if (std::abs(step) <= (exact ? 1e-13 : 0.2 * tolerance) * lambda) break;
+  }
+  // The certificate, with a gap of the tolerance (exact solves: round-off).
+  double gap = exact ? 1e-10 : tolerance;
+  LanczosOptions check = lanczos;
+  check.compute_ritz_vector = false;
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    const double certified = lambda * (1.0 + gap);
+    check.relative_tolerance = std::clamp((1.0 - slope) * gap / 2.0, 1e-12, 0.4);
+    const LanczosResult r = solve(certified, check);
+    if (r.certified_upper_bound <= certified) {
+      BoundaryResult<Dim> result;
+      result.lanczos = r;
+      result.lanczos.ritz_value = lambda;
+      result.lanczos.certified_upper_bound = certified;
+      result.lanczos.relative_tolerance = gap;
+      result.lanczos.iterations = iterations;
+      result.lanczos.exact = exact;
+      result.lanczos.seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      result.undamped_s = TimeStepOf(certified, 1.0);
+      result.undamped_ritz_s = TimeStepOf(lambda, 1.0);
+      result.critical_s = result.undamped_s * local_damping_factor;
+      result.ritz_s = result.undamped_ritz_s * local_damping_factor;
+      result.fixed_point_iterations = newton_steps + attempt + 1;
+      return result;
+    }
+    // Not certified (the tolerance reached, the round-off allowance of an exact solve, or
+    // lambda below lambda*): a wider gap, for the bound's excess over the Ritz value.
+    const double excess = r.certified_upper_bound / r.ritz_value - 1.0;
+    gap = std::max(2.0 * gap, 1.5 * excess / (1.0 - slope));
+    if (r.ritz_value > certified) lambda = r.ritz_value;
+  }
+  return std::nullopt;
+}
+
 // Damping (local alpha or dashpot ratio) that held the flutter of DDEM with kt > 0 in the
 // benchmark (tools/bench/stability_bench.py): alpha = 0.05 did in 2D, not in 3D; 0.1 did in
 // both (kt = kn and 1.25 kn, kn/(Ep l) at half its limit).
 constexpr double kFlutterDamping = 0.1;
-// Damping (local alpha or dashpot ratio) from which impacts at walls are not given the
-// unilateral contact factor: alpha = 0.1 held every step up to the linear limit in the
-// benchmark's wall scans (2D and 3D), 0.05 did not (a failure at 0.99 of it in 2D).
+// Damping (local alpha or dashpot ratio) from which impacts at walls are not given a
+// unilateral contact factor (DampedUnilateralFactor).
 constexpr double kImpactDamping = 0.1;
 
 struct Limit {
@@ -313,6 +410,14 @@ struct Limit {
 };
 
 }  // namespace
+
+double DampedUnilateralFactor(double damping) {
+  // The wall scans of tools/bench/stability_bench.md (header): in 2D the first failures were
+  // at 0.89 of the linear limit undamped, 0.99 with alpha = 0.05, none with alpha = 0.1.
+  if (damping < 0.05) return 0.85;
+  if (damping < kImpactDamping) return 0.94;
+  return 1.0;
+}
 
 bool StabilityOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& field, double value, const std::string& range) {
@@ -325,8 +430,9 @@ bool StabilityOptions::IsValid(std::string* error) const {
     return fail("safety_factor", safety_factor, "in (0, 1]");
   if (!(time_step_margin >= 0.0 && time_step_margin < 0.5))
     return fail("time_step_margin", time_step_margin, "in [0, 0.5)");
-  if (!(unilateral_contact_factor > 0.0 && unilateral_contact_factor <= 1.0))
-    return fail("unilateral_contact_factor", unilateral_contact_factor, "in (0, 1]");
+  if (!(unilateral_contact_factor >= 0.0 && unilateral_contact_factor <= 1.0))
+    return fail("unilateral_contact_factor", unilateral_contact_factor,
+                "in [0, 1] (0: graded by the damping)");
   if (!(max_spectral_radius > 0.0 && max_spectral_radius <= 1.0))
     return fail("max_spectral_radius", max_spectral_radius, "in (0, 1]");
   if (!(ddem_relative_tolerance > 0.0 && ddem_relative_tolerance < 0.5))
@@ -484,9 +590,17 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
     // one; a tenfold allowance.
     const double inexact_margin =
         10.0 * options.inner_tolerance / std::max(1e-3, 1.0 - s.spectral_radius);
+    // Normal springs only, no dashpots: the pencil, without inner solves.
+    std::optional<BoundaryResult<Dim>> pencil;
+    if (!network.has_tangential() && !network.has_rotation() && !network.has_dashpots() &&
+        !options.ddem_inner_solves)
+      pencil = PencilCriticalStep<Dim>(network, compliance, options, lanczos,
+                                       s.local_damping_factor, dem_ritz);
+    s.ddem_time_step_inner_solves = !pencil;
     const BoundaryResult<Dim> ddem =
-        CriticalStep<Dim>(network, &compliance, options, lanczos, s.local_damping_factor,
-                          std::numeric_limits<double>::infinity(), inexact_margin);
+        pencil ? *pencil
+               : CriticalStep<Dim>(network, &compliance, options, lanczos, s.local_damping_factor,
+                                   std::numeric_limits<double>::infinity(), inexact_margin);
     s.ddem_eigenvalue = Report(ddem.lanczos);
     s.ddem_eigenvalue.inner_iterations = static_cast<int>(ddem.inner_iterations);
     s.ddem_time_step_ritz_s = ddem.ritz_s;
@@ -507,19 +621,23 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
   }
   // Unilateral wall contacts, weakly damped: contacts that open and close (impacts) make the
   // scheme piecewise linear, and central differences then grow at some steps below the
-  // linear limit (header); the scene is held to unilateral_contact_factor x that limit.
+  // linear limit (header); the scene is held to the damping-graded factor (or the option's)
+  // x that limit.
   s.linear_critical_time_step_s = s.critical_time_step_s;
   {
-    const double alpha = std::max(material.translational_damping, material.rotational_damping);
-    const double xi = std::max(material.normal_dashpot_ratio, material.tangential_dashpot_ratio);
+    const double damping =
+        std::max({material.translational_damping, material.rotational_damping,
+                  material.normal_dashpot_ratio, material.tangential_dashpot_ratio});
     s.unilateral_contacts = s.wall_links > 0;
-    if (s.unilateral_contacts && alpha < kImpactDamping && xi < kImpactDamping &&
+    if (s.unilateral_contacts && damping < kImpactDamping &&
         std::isfinite(s.critical_time_step_s)) {
-      s.unilateral_factor = options.unilateral_contact_factor;
+      s.unilateral_factor = options.unilateral_contact_factor > 0.0
+                                ? options.unilateral_contact_factor
+                                : DampedUnilateralFactor(damping);
       s.critical_time_step_s *= s.unilateral_factor;
       s.critical_time_step_method +=
-          "; x " + Number(s.unilateral_factor, 3) +
-          " for the unilateral wall contacts of a weakly damped scene (impacts)";
+          "; x " + Number(s.unilateral_factor, 3) + " for the unilateral wall contacts of " +
+          (damping == 0.0 ? "an undamped" : "a weakly damped") + " scene (impacts)";
     }
   }
   // Madan assumption 5 makes DDEM with tangential springs non-conservative (header).
@@ -603,7 +721,7 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
         "walls hold only in compression: a particle meeting or leaving a wall is an impact, "
         "and central differences on contacts that open and close can grow below the linear "
         "limit (the critical step holds a factor " +
-        Number(options.unilateral_contact_factor, 3) +
+        Number(s.unilateral_factor, 3) +
         " for it, from the benchmark, not a proof); local damping alpha >= 0.1 is safer");
   if (s.rattlers_without_neighbour > 0)
     s.warnings.push_back(std::to_string(s.rattlers_without_neighbour) +

@@ -534,6 +534,73 @@ void LinearisedNetwork<Dim>::TangentialDisplacementOfStrain(
 }
 
 template <int Dim>
+void LinearisedNetwork<Dim>::ApplyPencilOperator(const ParticleCompliance<Dim>& compliance,
+                                                 double shift, const std::vector<double>& x,
+                                                 std::vector<double>& y) const {
+  if (rotation_) throw InputError("ApplyPencilOperator: the network has rotations (kt > 0)");
+  const int links = link_count(), count = particle_count();
+  const Vector<Dim>* const normals = link_normal_.data();
+  const double* const root_kn = link_root_kn_.data();
+  const double* const inverse_root = dof_inverse_root_mass_.data();
+  const int* const offset = adjacency_offset_.data();
+  const int* const entry = adjacency_entry_.data();
+  std::vector<Vector<Dim>>& motion = scratch_motion_;
+  std::vector<SymmetricTensor<Dim>>& strain = scratch_strain_;
+  motion.resize(count);
+  strain.resize(count);
+  // 1. Per particle, from the link forces f = K_n^1/2 x: its motion M^-1 (C^T f) (GatherLinkForces
+  //    then the M^-1/2 of LinkKinematics) and its strain (StrainOfLinkForces).
+#pragma omp parallel for if (count >= kParallelItems) num_threads(num_threads_) schedule(static)
+  for (int p = 0; p < count; ++p) {
+    Vector<Dim> translation = Vector<Dim>::Zero();
+    SymmetricTensor<Dim> stress = SymmetricTensor<Dim>::Zero();
+    for (int e = offset[p]; e < offset[p + 1]; ++e) {
+      const int c = entry[e] >> 1;
+      const Vector<Dim> f = root_kn[c] * x[c] * normals[c];
+      if (entry[e] & 1)
+        translation += f;
+      else
+        translation -= f;
+      stress += SymmetricOuter(normals[c], f);
+    }
+    for (int axis = 0; axis < Dim; ++axis) {
+      const int d = dof_[p][axis];
+      motion[p][axis] = d >= 0 ? translation[axis] * inverse_root[d] * inverse_root[d] : 0.0;
+    }
+    strain[p] = compliance.Strain(stress * (radius_[p] / volume_[p]));
+  }
+  // Force-driven walls: their motion n_w . F / m_w.
+  std::vector<double> wall_motion(wall_dof_.size(), 0.0);
+  for (size_t w = 0; w < wall_dof_.size(); ++w) {
+    const int d = wall_dof_[w];
+    if (d < 0) continue;
+    double sum = 0.0;
+    for (const int c : wall_node_links_[w]) sum += root_kn[c] * x[c] * wall_normal_[w].dot(normals[c]);
+    wall_motion[w] = sum * inverse_root[d] * inverse_root[d];
+  }
+  // 2. Per link: K_n^1/2 (n . d + shift x the strain correction), d = u_j - u_i.
+  y.resize(links);
+  const int* const link_i = link_i_.data();
+  const int* const link_j = link_j_.data();
+  const Vector<Dim>* const u = motion.data();
+  const double* const radius = radius_.data();
+#pragma omp parallel for if (links >= kParallelItems) num_threads(num_threads_) schedule(static)
+  for (int c = 0; c < links; ++c) {
+    const int i = link_i[c], j = link_j[c];
+    const Vector<Dim>& n = normals[c];
+    Vector<Dim> d = -u[i];
+    double correction = radius[i] * QuadraticForm(strain[i], n);
+    if (j >= 0) {
+      d += u[j];
+      correction += radius[j] * QuadraticForm(strain[j], n);
+    } else if (j <= -2) {
+      d += wall_motion[-2 - j] * wall_normal_[-2 - j];
+    }
+    y[c] = root_kn[c] * (n.dot(d) + shift * correction);
+  }
+}
+
+template <int Dim>
 void LinearisedNetwork<Dim>::ApplyDdemOperator(const ParticleCompliance<Dim>& unit_compliance,
                                                const std::vector<double>& x,
                                                std::vector<double>& y) const {

@@ -133,6 +133,14 @@ class LinearisedNetwork {
                              const std::vector<double>& x1, const std::vector<double>& x2,
                              std::vector<double>& y1, std::vector<double>& y2) const;
 
+  // The operator of the DDEM step of normal springs (stability_analysis.cpp, the pencil):
+  // y = A A^T x + shift S x with A = K_n^1/2 C M^-1/2, in two passes (links -> particles:
+  // the motions M^-1 C^T K_n^1/2 x and the strains of the forces K_n^1/2 x; particles ->
+  // links: the elongations and the strain corrections). Only for networks without rotational
+  // degrees of freedom (kt = 0).
+  void ApplyPencilOperator(const ParticleCompliance<Dim>& compliance, double shift,
+                           const std::vector<double>& x, std::vector<double>& y) const;
+
   void set_num_threads(int threads) { num_threads_ = std::max(1, threads); }
 
  private:

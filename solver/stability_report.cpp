@@ -101,7 +101,9 @@ std::string StabilitySummary::FullReport() const {
         "against DEM, Ritz values)\n",
         ddem_critical_time_step_s, ddem_reduction_percent);
     out << "    K_eff: " << EigenvalueLine(ddem_eigenvalue, "1/s^2")
-        << Line(", %d inner CG iterations\n", ddem_eigenvalue.inner_iterations);
+        << (ddem_time_step_inner_solves
+                ? Line(", %d inner CG iterations\n", ddem_eigenvalue.inner_iterations)
+                : std::string(", pencil without inner solves (kt = 0)\n"));
   }
   out << Line(
       "  damping factors: dashpots %.4f (the boundary z = -1 with 2c/dt), local damping "
@@ -186,6 +188,7 @@ nlohmann::json StabilitySummary::ToJson() const {
     step["ddem_time_step_ritz_s"] = Finite(ddem_time_step_ritz_s);
     step["ddem_reduction_percent"] = ddem_reduction_percent;
     step["ddem_eigenvalue"] = EigenvalueJson(ddem_eigenvalue);
+    step["ddem_inner_solves"] = ddem_time_step_inner_solves;
   }
   step["flutter_possible"] = flutter_possible;
   step["dashpot_factor"] = dashpot_factor;

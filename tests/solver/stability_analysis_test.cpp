@@ -303,6 +303,55 @@ TEST(StabilityTimeStep, DashpotsAndLocalDampingLowerTheLimit) {
   EXPECT_NEAR(s.critical_time_step_s, expected, 1e-6 * expected);
 }
 
+// Walls act only in compression (impacts): the factor on the linear limit is graded by the
+// damping (0.85 below 0.05, 0.94 below 0.1, none from 0.1: the benchmark's wall scans), and an
+// explicit option value replaces it.
+TEST(StabilityWalls, DampedUnilateralFactor) {
+  EXPECT_EQ(DampedUnilateralFactor(0.0), 0.85);
+  EXPECT_EQ(DampedUnilateralFactor(0.0499), 0.85);
+  EXPECT_EQ(DampedUnilateralFactor(0.05), 0.94);
+  EXPECT_EQ(DampedUnilateralFactor(0.0999), 0.94);
+  EXPECT_EQ(DampedUnilateralFactor(0.1), 1.0);
+  EXPECT_EQ(DampedUnilateralFactor(0.5), 1.0);
+  // The SC specimen between two walls 10 kn (top and bottom rows touching them).
+  const Specimen sc = SquareSpecimen();
+  SceneOptions<2> scene = PlainScene(std::nullopt, 0.35);
+  double top = 0.0;
+  for (const Vector<2>& c : sc.packing.centres) top = std::max(top, c.y());
+  for (const double side : {-1.0, 1.0}) {
+    WallOptions<2> w;
+    w.name = side < 0 ? "bottom" : "top";
+    w.normal = Vector<2>(0, -side);
+    w.point = Vector<2>(0, side < 0 ? -kRadius : top + kRadius);
+    w.normal_stiffness_n_per_m = 10 * kNormalStiffness;
+    scene.walls.push_back(w);
+  }
+  struct Case {
+    double alpha, dashpot, option, factor;
+  };
+  const Case cases[] = {{0.0, 0.0, 0.0, 0.85},  {0.05, 0.0, 0.0, 0.94}, {0.0, 0.07, 0.0, 0.94},
+                        {0.1, 0.0, 0.0, 1.0},   {0.0, 0.0, 0.8, 0.8},   {0.05, 0.0, 0.97, 0.97},
+                        {0.2, 0.0, 0.8, 1.0}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE("alpha " + std::to_string(c.alpha) + ", xi " + std::to_string(c.dashpot) +
+                 ", option " + std::to_string(c.option));
+    scene.material.translational_damping = scene.material.rotational_damping = c.alpha;
+    scene.material.normal_dashpot_ratio = scene.material.tangential_dashpot_ratio = c.dashpot;
+    StabilityOptions options;
+    options.unilateral_contact_factor = c.option;
+    const StabilitySummary s = AnalyseStability<2>(sc.packing, scene, options);
+    EXPECT_GT(s.wall_links, 0);
+    EXPECT_EQ(s.unilateral_factor, c.factor);
+    EXPECT_NEAR(s.critical_time_step_s, c.factor * s.linear_critical_time_step_s,
+                1e-12 * s.linear_critical_time_step_s);
+  }
+  StabilityOptions invalid;
+  invalid.unilateral_contact_factor = 1.5;
+  std::string error;
+  EXPECT_FALSE(invalid.IsValid(&error));
+  EXPECT_NE(error.find("unilateral_contact_factor"), std::string::npos) << error;
+}
+
 // The solver takes its step from the analysis and refuses beyond-limit DDEM parameters.
 TEST(StabilityIntegration, SimulationUsesTheAnalysis) {
   const Specimen sc = SquareSpecimen();

@@ -3,10 +3,13 @@
 // tangential springs, near-incompressible particles, kn/(Ep l) close to the limit,
 // Ep -> infinity, particles of radius 1e-5 m, 2D and 3D. For each, the prediction must be on
 // the safe side and within 3 %: a real undamped solver run from random velocities stays
-// bounded at the predicted (certified) critical step and diverges at 1.03 times it.
+// bounded at the predicted (certified) critical step and diverges at 1.03 times it. Also: the
+// DDEM step of normal springs without inner solves (the pencil) equals the inner-solve one,
+// and a small 2D packing between walls 10 kn (impacts) runs bounded at the recommended step.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -151,6 +154,141 @@ TEST(StabilityExtremeCases, GeneratedSpheres) {
   const Packing<3> packing = Generated<3>(120, 1e-4);
   Check(packing, {"DEM kt/kn = 1", 1.0});
   Check(packing, {"DDEM nu_p 0.49 at 0.5 of the limit", 0.0, 0.49, 0.5});
+}
+
+// kt = 0, no dashpots: the pencil (no inner solves) and the inner-solve operator give the
+// same DDEM step. Exact Lanczos (small systems): the Ritz values agree to 1e-6 (the inner
+// solves to 1e-12); certified (exact_dimension 0, a few hundred unknowns): both on the safe
+// side of the exact value and within the tolerance.
+template <int Dim>
+void CheckPencil(const Packing<Dim>& packing, double limit_fraction, double nu_p) {
+  SCOPED_TRACE(std::to_string(Dim) + "D, " + std::to_string(limit_fraction) + " of the limit");
+  Case c{"pencil", 0.0, nu_p, limit_fraction};
+  const StabilitySummary rigid =
+      AnalyseStability<Dim>(packing, SceneOf<Dim>(c, 0.0), StabilityOptions());
+  const SceneOptions<Dim> scene =
+      SceneOf<Dim>(c, rigid.convergence_eigenvalue.ritz_value / limit_fraction);
+  StabilityOptions options;
+  options.lanczos.exact_dimension = 2000;
+  const StabilitySummary pencil = AnalyseStability<Dim>(packing, scene, options);
+  options.ddem_inner_solves = true;
+  options.inner_tolerance = 1e-12;
+  const StabilitySummary inner = AnalyseStability<Dim>(packing, scene, options);
+  ASSERT_TRUE(pencil.ddem_time_step_available);
+  EXPECT_FALSE(pencil.ddem_time_step_inner_solves);
+  EXPECT_TRUE(inner.ddem_time_step_inner_solves);
+  EXPECT_TRUE(pencil.ddem_eigenvalue.exact);
+  const double exact = inner.ddem_time_step_ritz_s;
+  EXPECT_NEAR(pencil.ddem_time_step_ritz_s, exact, 1e-6 * exact);
+  EXPECT_NEAR(pencil.ddem_critical_time_step_s, inner.ddem_critical_time_step_s, 1e-6 * exact);
+  EXPECT_GT(pencil.ddem_reduction_percent, 1.0);
+  // Certified (no exact shortcut).
+  StabilityOptions certified;
+  certified.lanczos.exact_dimension = 0;
+  const StabilitySummary bound = AnalyseStability<Dim>(packing, scene, certified);
+  EXPECT_FALSE(bound.ddem_time_step_inner_solves);
+  EXPECT_LE(bound.ddem_critical_time_step_s, exact);
+  EXPECT_GE(bound.ddem_critical_time_step_s,
+            exact / std::sqrt(1.0 + 2.0 * certified.ddem_relative_tolerance));
+  EXPECT_NEAR(bound.ddem_time_step_ritz_s, exact, 1e-3 * exact);
+  std::printf("%dD pencil: dt %.8e s, inner solves %.8e s; certified %.6e s (%d steps)\n", Dim,
+              pencil.ddem_time_step_ritz_s, exact, bound.ddem_critical_time_step_s,
+              bound.ddem_eigenvalue.iterations);
+}
+
+TEST(StabilityExtremeCases, PencilEqualsInnerSolves) {
+  CheckPencil(Generated<2>(150, 1e-4), 0.5, 0.25);
+  CheckPencil(Generated<2>(150, 1e-4), 0.95, 0.45);
+  CheckPencil(Generated<3>(120, 1e-4), 0.9, 0.25);
+}
+
+// Walls 10 kn on every side of a small 2D packing, undamped: the wall contacts open and close
+// (impacts), and the analysis holds the scene to 0.85 x the linear limit
+// (DampedUnilateralFactor). The walls are pressed in smoothly by 1e-3 mean radii, then the
+// particles get random velocities: at the recommended step the run stays bounded (kinetic
+// energy within 1e4 x its level after the press-in, no wall contact chattering).
+TEST(StabilityExtremeCases, WallsAtTheRecommendedStep) {
+  const Packing<2> packing = Generated<2>(150, 1e-4);
+  Vector<2> lower = packing.centres[0], upper = packing.centres[0];
+  for (int p = 0; p < packing.size(); ++p)
+    for (int a = 0; a < 2; ++a) {
+      lower[a] = std::min(lower[a], packing.centres[p][a] - packing.radii[p]);
+      upper[a] = std::max(upper[a], packing.centres[p][a] + packing.radii[p]);
+    }
+  const double preload = 1e-3 * VolumeMeanRadius<2>(packing.radii);
+  // walls: at the packing's box, moving in by `preload`; pressed: at their final position
+  // (the analysis' scene: the contacts of the loaded runs).
+  SceneOptions<2> walls = SceneOf<2>(Case{"walls"}, 0.0), pressed = walls;
+  for (int k = 0; k < 4; ++k) {
+    const int axis = k / 2;
+    const bool high = k % 2 == 1;
+    WallOptions<2> w;
+    w.name = "wall " + std::to_string(k);
+    w.normal = Vector<2>::Zero();
+    w.normal[axis] = high ? -1.0 : 1.0;
+    w.point = Vector<2>::Zero();
+    w.point[axis] = high ? upper[axis] : lower[axis];
+    w.normal_stiffness_n_per_m = 10 * kNormalStiffness;
+    w.velocity = preload * w.normal;  // times the pulse amplitude [1/s]
+    walls.walls.push_back(w);
+    w.point += preload * w.normal;
+    w.velocity = Vector<2>::Zero();
+    pressed.walls.push_back(w);
+  }
+  pressed.contacts.bond_gap_tolerance = 0.0;
+  const StabilitySummary s = AnalyseStability<2>(packing, pressed, StabilityOptions());
+  EXPECT_GT(s.wall_links, 0);
+  EXPECT_EQ(s.unilateral_factor, 0.85);
+  const double dt = s.recommended_time_step_s;
+  for (const long ramp : {2000L, 4000L}) {
+    SCOPED_TRACE("press-in over " + std::to_string(ramp) + " steps");
+    SceneOptions<2> scene = walls;
+    scene.time_step.time_step_s = dt;
+    scene.time_step.allow_above_critical = true;
+    scene.time_step.from_stability_analysis = false;
+    const double ramp_s = ramp * dt;
+    for (WallOptions<2>& w : scene.walls)
+      w.velocity_amplitude.points = {{0.0, 0.0}, {0.5 * ramp_s, 2.0 / ramp_s}, {ramp_s, 0.0}};
+    Simulation<2> simulation(packing, scene);
+    RunOptions run;
+    run.max_steps = ramp;
+    ASSERT_NO_THROW(simulation.Run(run));
+    // Wall contacts loaded after the press-in: they must stay closed.
+    std::vector<std::pair<int, int>> loaded;
+    for (int w = 0; w < simulation.wall_count(); ++w)
+      for (size_t k = 0; k < simulation.wall(w).particle.size(); ++k)
+        if (simulation.wall(w).normal_elastic_force[k] < -1e-3 * kNormalStiffness * preload)
+          loaded.push_back({w, simulation.wall(w).particle[k]});
+    EXPECT_GT(loaded.size(), 4u);
+    std::mt19937_64 engine(11);
+    std::normal_distribution<double> gaussian;
+    for (int p = 0; p < packing.size(); ++p) {
+      Vector<2> v = simulation.particles().velocity[p];
+      v += Vector<2>(1e-4 * gaussian(engine), 1e-4 * gaussian(engine));
+      simulation.SetVelocity(p, v);
+    }
+    int openings = 0;
+    run.max_steps = 3000;
+    run.observe_interval = 1;
+    run.observer = [&] {
+      for (const auto& [w, particle] : loaded) {
+        const WallState<2>& wall = simulation.wall(w);
+        const auto at = std::lower_bound(wall.particle.begin(), wall.particle.end(), particle);
+        if (at == wall.particle.end() || *at != particle ||
+            wall.normal_elastic_force[at - wall.particle.begin()] >= 0.0)
+          ++openings;
+      }
+    };
+    run.max_steps = 100;
+    ASSERT_NO_THROW(simulation.Run(run));
+    const double reference = simulation.Energy().kinetic_j;
+    run.max_steps = 3000;
+    EXPECT_NO_THROW(simulation.Run(run));
+    EXPECT_LT(simulation.Energy().kinetic_j, 1e4 * reference);
+    EXPECT_EQ(openings, 0);
+  }
+  std::printf("walls 10 kn, undamped: linear limit %.5e s, x %.2f, recommended %.5e s\n",
+              s.linear_critical_time_step_s, s.unilateral_factor, dt);
 }
 
 }  // namespace

@@ -2,7 +2,7 @@
 """Benchmark of stability-limit (issue 5): predicted against measured limits, and speed.
 
   tools/bench/stability_bench.py [--build build] [--out bench-out/stability]
-                                 [--quick] [--skip-grid] [--skip-timing] [--runs 3]
+                                 [--quick] [--only REGEX] [--skip-grid] [--skip-timing] [--runs 3]
 
 1. Packings by generate-packing (r_max/r_min <= 10): 2D 500 discs, 3D 500 spheres, 2D with a
    mean radius of 1e-5 m; and Madan's SC 9x20 / HCP 110-disc lattices (written by
@@ -13,16 +13,19 @@
    velocities), on the time step (--mode dt) or on kn/(Ep l) at a small fixed step (--mode ep).
    ratio = predicted / largest stable value: it must be <= 1 (never unsafe) and >= 0.97.
    Rows with walls (unilateral contacts: impacts) are scanned instead (--mode scan): runs at
-   0.80 .. 1.02 of the linear certified step, measured = the largest probed step below which
-   every run was bounded (the bounded/unbounded boundary is not monotonic there).
-3. The full analysis of 50,000-particle packings (2D and 3D): wall time of stability-limit,
-   median of --runs.
+   0.80 .. 1.02 of the linear certified step, each with three press-in durations and a
+   loaded wall contact that chatters counted as a failure; measured = the largest probed
+   step below which every run was bounded (the bounded/unbounded boundary is not monotonic
+   there).
+3. The full analysis of 50,000-particle packings (2D and 3D): wall and CPU time of
+   stability-limit, median of --runs; with --baseline BUILD_DIR, that build's side by side.
 Prints the tables (Markdown) and writes CSV and JSON into --out.
 """
 import argparse
 import csv
 import json
 import os
+import re
 import resource
 import statistics
 import subprocess
@@ -107,25 +110,29 @@ def grid(packings, quick):
     return rows
 
 
-def time_analysis(build, packing, arguments, runs, threads):
-    """Median wall time and CPU (user + system) time of stability-limit; the machine may be
-    shared, so the CPU time of a one-thread run is the steadier figure."""
-    seconds, cpu = [], []
-    analysis = None
+def time_analysis(builds, packing, arguments, runs, threads):
+    """Per build: median wall time and CPU (user + system) time of stability-limit, and the
+    analysis. The builds run in turn within every repetition (side by side: the same load);
+    the machine may be shared, so the CPU time of a one-thread run is the steadier figure."""
+    seconds = [[] for _ in builds]
+    cpu = [[] for _ in builds]
+    analyses = [None for _ in builds]
     for _ in range(runs):
-        out = "/tmp/specimen_stability_timing"
-        command = [os.path.join(build, "tools", "stability-limit"), "--packing", packing,
-                   "--output", out, "--quiet", "--threads", str(threads)] + \
-            [str(a) for a in arguments]
-        before = resource.getrusage(resource.RUSAGE_CHILDREN)
-        start = time.time()
-        subprocess.run(command, check=True, capture_output=True)
-        seconds.append(time.time() - start)
-        after = resource.getrusage(resource.RUSAGE_CHILDREN)
-        cpu.append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
-        with open(os.path.join(out, "packing_stability.json")) as f:
-            analysis = json.load(f)["analysis"]
-    return statistics.median(seconds), statistics.median(cpu), analysis
+        for k, build in enumerate(builds):
+            out = "/tmp/specimen_stability_timing"
+            command = [os.path.join(build, "tools", "stability-limit"), "--packing", packing,
+                       "--output", out, "--quiet", "--threads", str(threads)] + \
+                [str(a) for a in arguments]
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            start = time.time()
+            subprocess.run(command, check=True, capture_output=True)
+            seconds[k].append(time.time() - start)
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            cpu[k].append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
+            with open(os.path.join(out, "packing_stability.json")) as f:
+                analyses[k] = json.load(f)["analysis"]
+    return ([statistics.median(x) for x in seconds], [statistics.median(x) for x in cpu],
+            analyses)
 
 
 def main():
@@ -135,7 +142,11 @@ def main():
     parser.add_argument("--quick", action="store_true", help="fewer rows")
     parser.add_argument("--skip-grid", action="store_true")
     parser.add_argument("--skip-timing", action="store_true")
+    parser.add_argument("--only", default="",
+                        help="grid rows whose case matches this regular expression (e.g. walls)")
     parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--baseline", default="",
+                        help="another build directory, timed side by side with --build")
     parser.add_argument("--threads", type=int, default=0,
                         help="stability-limit --threads for the timings (0: the idle cores)")
     args = parser.parse_args()
@@ -158,7 +169,7 @@ def main():
     # 2. The grid.
     results = []
     if not args.skip_grid:
-        rows = grid(packings, args.quick)
+        rows = [r for r in grid(packings, args.quick) if re.search(args.only, r[0])]
         print("| case | particles | R_max/R_min | predicted | measured (stable / unstable) | "
               "ratio | ratio (Ritz) | DDEM reduction | rho(B) | s |")
         print("|---|---|---|---|---|---|---|---|---|---|")
@@ -217,19 +228,34 @@ def main():
         ]
         print("\nload average before the timings: %.2f (%d cores), --threads %d" %
               (os.getloadavg()[0], os.cpu_count(), args.threads))
+        builds = [args.build] + ([args.baseline] if args.baseline else [])
+        if args.baseline:
+            print("\nbaseline %s against build %s, side by side (baseline -> build)" %
+                  (args.baseline, args.build))
         print("\n| analysis | particles | links | median wall time [s] | CPU time [s] | "
               "of which DDEM step [s] |")
         print("|---|---|---|---|---|---|")
         for label, packing, arguments in cases:
-            seconds, cpu, a = time_analysis(args.build, packing, arguments, args.runs,
-                                            args.threads)
-            ddem = a["time_step"].get("ddem_eigenvalue", {}).get("seconds", 0.0)
+            seconds, cpu, analyses = time_analysis(builds, packing, arguments, args.runs,
+                                                   args.threads)
+            ddem = [a["time_step"].get("ddem_eigenvalue", {}).get("seconds", 0.0)
+                    for a in analyses]
+            a = analyses[0]
             timings.append({"case": label, "particles": a["scene"]["particles"],
-                            "links": a["scene"]["links"], "median_seconds": seconds,
-                            "cpu_seconds": cpu, "ddem_seconds": ddem,
+                            "links": a["scene"]["links"], "median_seconds": seconds[0],
+                            "cpu_seconds": cpu[0], "ddem_seconds": ddem[0],
                             "threads": args.threads})
-            print("| %s | %d | %d | %.2f | %.2f | %.2f |" % (
-                label, a["scene"]["particles"], a["scene"]["links"], seconds, cpu, ddem))
+            if args.baseline:
+                timings[-1].update({"baseline_median_seconds": seconds[1],
+                                    "baseline_cpu_seconds": cpu[1],
+                                    "baseline_ddem_seconds": ddem[1]})
+                print("| %s | %d | %d | %.2f -> %.2f | %.2f -> %.2f | %.2f -> %.2f |" % (
+                    label, a["scene"]["particles"], a["scene"]["links"], seconds[1],
+                    seconds[0], cpu[1], cpu[0], ddem[1], ddem[0]))
+            else:
+                print("| %s | %d | %d | %.2f | %.2f | %.2f |" % (
+                    label, a["scene"]["particles"], a["scene"]["links"], seconds[0], cpu[0],
+                    ddem[0]))
             sys.stdout.flush()
     with open(os.path.join(args.out, "stability_bench.json"), "w") as f:
         json.dump({"grid": results, "timings": timings}, f, indent=2)
