@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
+#include "generator/compaction.h"
 #include "generator/contact_graph.h"
 #include "generator/densify.h"
 #include "generator/hole_filling.h"
@@ -243,6 +244,7 @@ GeneratorOptions DefaultGeneratorOptions() {
     options.node_size_spread = 3.0;
     options.hole_fill_radius = 0.35;
     options.max_rounds = 6;
+    options.compaction = true;
   }
   return options;
 }
@@ -293,6 +295,18 @@ bool GeneratorOptions::IsValid(std::string* error) const {
   if (!(constraint_fraction > 0.0) || constraint_fraction > 2.0)
     return fail("constraint_fraction = " + std::to_string(constraint_fraction) +
                 " is not allowed: it must be in (0, 2]");
+  if (!(compaction_exponent >= 0.5) || compaction_exponent > 4.0)
+    return fail("compaction_exponent = " + std::to_string(compaction_exponent) +
+                " is not allowed: it must be in [0.5, 4]");
+  if (compaction_round < 1 || compaction_round > 100)
+    return fail("compaction_round = " + std::to_string(compaction_round) +
+                " is not allowed: it must be in [1, 100]");
+  if (compaction_rounds < 1 || compaction_rounds > 100)
+    return fail("compaction_rounds = " + std::to_string(compaction_rounds) +
+                " is not allowed: it must be in [1, 100]");
+  if (!(compaction_close_gap >= 0.0) || compaction_close_gap > 0.5)
+    return fail("compaction_close_gap = " + std::to_string(compaction_close_gap) +
+                " is not allowed: it must be in [0, 0.5] (relative to the mean radius)");
   if (num_threads < 1 || num_threads > 256)
     return fail("num_threads = " + std::to_string(num_threads) + " is not allowed: it must be in [1, 256]");
   return true;
@@ -383,6 +397,23 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
   HoleFillingOptions hole_filling;
   hole_filling.min_radius = std::max(radius_min, options.hole_fill_radius * expected_mean_radius);
   hole_filling.max_radius = radius_max;
+  // Compaction: force-biased growth until jammed (generator/compaction.h).
+  auto run_compaction = [&](int round) {
+    report(round < 0 ? 0.9 : static_cast<double>(round) / options.max_rounds, "compacting");
+    CompactionOptions compaction;
+    compaction.length_scale = expected_mean_radius;
+    compaction.exponent = options.compaction_exponent;
+    GeneratorSummary::Compaction record;
+    record.round = round;
+    record.porosity_before = NominalPorosity<Dim>(domain, r);
+    const CompactionSummary c = CompactPacking<Dim>(domain, compaction, x, r);
+    record.growth_factor = c.growth_factor;
+    record.kept_input = c.kept_input;
+    record.sweeps = c.sweeps;
+    record.porosity_after = NominalPorosity<Dim>(domain, r);
+    record.seconds = c.seconds;
+    s.compactions.push_back(record);
+  };
   ContactGraph<Dim> graph = BuildContactGraph<Dim>(domain, x, r, ghost_band);
   s.termination = "round limit reached";
   std::vector<char> free_particles;  // round 0: all
@@ -390,13 +421,25 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
     report(static_cast<double>(round) / options.max_rounds,
            "densifying: round " + std::to_string(round + 1) + " of up to " +
                std::to_string(options.max_rounds));
+    const bool compacted = options.compaction && round >= options.compaction_round &&
+                           round < options.compaction_round + options.compaction_rounds;
+    if (compacted) {
+      run_compaction(round);
+      graph = BuildContactGraph<Dim>(domain, x, r, ghost_band);
+      free_particles.clear();
+    }
     const size_t exact_count = static_cast<size_t>(options.constraint_fraction * (Dim + 1) * x.size());
     // Round 0 starts from the initial guess, whose gaps mean nothing yet. Later rounds drop
     // the pairs the previous round left open by more than half the contact tolerance
     // (Labra 3.2.3, defect (a)): what is left is close to consistent and nearly exact, and
     // the pairs kept are contacts of the output. (Dropping at the overlap tolerance instead
     // frees so much that the packing relaxes: measured nc 5.4-5.8 against 5.7-5.8.)
-    const double gap_limit = round == 0 ? std::numeric_limits<double>::infinity() : drop_gap;
+    // After a compaction the jammed packing has many near-contacts: the round closes those
+    // open by up to compaction_close_gap (measured, 30k spheres: nc 5.4 -> 6.9, and the
+    // porosity drops further, 35.2 -> 34.1 %).
+    const double gap_limit = round == 0 ? std::numeric_limits<double>::infinity()
+                             : compacted ? options.compaction_close_gap * expected_mean_radius
+                                         : drop_gap;
     SelectExactConstraints<Dim>(domain, graph, x, r, exact_count, gap_limit, &lm);
     lm.free_particles = free_particles;
     if (options.record_trace) {
@@ -482,6 +525,8 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
   }
   s.densification_seconds = SecondsSince(densification_start);
 
+  if (options.compaction && s.compactions.empty()) run_compaction(-1);
+
   // --- Final projection: no overlap and no protrusion at all. ---
   report(0.95, "removing the remaining overlaps");
   s.projection_max_shrink =
@@ -542,6 +587,15 @@ std::string GeneratorSummary::FullReport() const {
                   r.inserted_particles, r.seconds);
     out << line;
   }
+  for (const auto& c : compactions) {
+    std::snprintf(line, sizeof(line),
+                  "  compaction %s %d: radii x %.5f%s, %d sweeps, porosity %.4f -> %.4f, %.2f s\n",
+                  c.round < 0 ? "after round" : "before round",
+                  c.round < 0 ? static_cast<int>(rounds.size()) - 1 : c.round, c.growth_factor,
+                  c.kept_input ? " (input kept)" : "", c.sweeps, c.porosity_before, c.porosity_after,
+                  c.seconds);
+    out << line;
+  }
   std::snprintf(line, sizeof(line),
                 "  final projection: largest radius reduction %.4g r_mean, %d particles removed\n"
                 "  time: placement %.2f s, densification %.2f s, total %.2f s\n"
@@ -582,6 +636,14 @@ nlohmann::json GeneratorSummary::ToJson() const {
                           {"seconds", t.seconds},
                           {"nominal_porosity", t.nominal_porosity},
                           {"max_overlap", t.max_overlap}});
+  for (const auto& c : compactions)
+    j["compactions"].push_back({{"round", c.round},
+                                {"growth_factor", c.growth_factor},
+                                {"kept_input", c.kept_input},
+                                {"sweeps", c.sweeps},
+                                {"porosity_before", c.porosity_before},
+                                {"porosity_after", c.porosity_after},
+                                {"seconds", c.seconds}});
   j["projection_max_shrink"] = projection_max_shrink;
   j["projection_removed"] = projection_removed;
   j["placement_seconds"] = placement_seconds;

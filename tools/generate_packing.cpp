@@ -43,6 +43,9 @@ struct CommandLine {
   PackingOutputOptions output;
   bool quiet = false;
   bool trace = false;
+  std::string compaction;  // "on" | "off" | empty: the dimension's default
+  double compaction_exponent = -1.0;
+  int compaction_rounds = -1;
 };
 
 // Dimension of a domain from its first word.
@@ -76,6 +79,11 @@ int Run(const CommandLine& cl) {
   options.seed = cl.seed;
   options.num_threads = cl.threads;
   options.record_trace = cl.trace;
+  if (!cl.compaction.empty() && cl.compaction != "on" && cl.compaction != "off")
+    throw InputError("--compaction = '" + cl.compaction + "' is not allowed: use on or off");
+  if (!cl.compaction.empty()) options.compaction = cl.compaction == "on";
+  if (cl.compaction_exponent >= 0.0) options.compaction_exponent = cl.compaction_exponent;
+  if (cl.compaction_rounds >= 0) options.compaction_rounds = cl.compaction_rounds;
   std::string error;
   if (!options.IsValid(&error)) throw InputError(error);
   // 2. Fail on an unusable output location now, not after the work.
@@ -129,6 +137,13 @@ int main(int argc, char** argv) {
                  "pairs with |gap| <= this * mean radius are contacts (bonds), in (0, 0.2]; "
                  "default 0.02");
   app.add_option("--max-rounds", cl.max_rounds, "outer rounds (triangulation + LM), in [1, 100]");
+  app.add_option("--compaction", cl.compaction,
+                 "force-biased growth and locking after the rounds: on | off; default off (2D), on (3D)")
+;
+  app.add_option("--compaction-exponent", cl.compaction_exponent,
+                 "compaction displacement ~ overlap^exponent, in [0.5, 4]; default 1");
+  app.add_option("--compaction-rounds", cl.compaction_rounds,
+                 "rounds that start with a compaction (from round 3), in [1, 100]; default 1");
   app.add_option("--seed", cl.seed, "random seed; same seed, same machine: identical output");
   app.add_option("--threads", cl.threads, "threads for the least-squares solver, default 2");
   app.add_option("--output", cl.output.directory, "output directory (created), default out");

@@ -56,6 +56,8 @@ TEST(GeneratePackingCommand, BadInputExitsWithTwoAndWritesNothing) {
       {"--domain \"polygon 4 0 0 1 1 1 0 0 1\" --count 100", "self-intersecting"},
       {"--domain \"cylinder 0 0 0.5 1 1\" --count 100", "cylinder length"},
       {"--domain \"rectangle 0 0 10 10\" --count 100 --contact-tolerance 0.9", "contact_tolerance"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --compaction maybe", "--compaction"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --compaction-exponent 9", "compaction_exponent"},
   };
   for (const Case& c : cases) {
     const fs::path dir = FreshDirectory("bad");

@@ -2,7 +2,8 @@
 """Benchmark of generate-packing (issue 2): prints a table, writes CSV and pictures.
 
   tools/bench/generator_bench.py [--build build] [--out bench-out/generator]
-                                 [--runs 3] [--quick] [--skip-scaling]
+                                 [--runs 3] [--quick] [--skip-scaling] [--only 2d|3d]
+                                 [--generator-args "--compaction off"] [--no-competitors]
 
 1. The two target cases, median of --runs runs (seeds 1..runs) on this machine:
    2D square of side 100, mean radius 0.223 (~56,000 discs), r_max/r_min <= 10;
@@ -30,26 +31,26 @@ PYTHON_WITH_GENGEO = None
 
 
 def run_timed(command, cwd=None):
-    """Runs a command under GNU time; returns (seconds, peak RSS in MiB, stdout)."""
+    """Runs a command under GNU time; returns (wall seconds, CPU seconds, peak RSS in MiB, stdout)."""
     with tempfile.NamedTemporaryFile("r", suffix=".time") as timing:
-        full = ["/usr/bin/time", "-f", "%e %M", "-o", timing.name] + command
+        full = ["/usr/bin/time", "-f", "%e %U %S %M", "-o", timing.name] + command
         result = subprocess.run(full, cwd=cwd, capture_output=True, text=True)
         if result.returncode != 0:
             raise RuntimeError("command failed: %s\n%s%s" % (" ".join(command), result.stdout, result.stderr))
-        seconds, kib = timing.read().split()[-2:]
-    return float(seconds), float(kib) / 1024.0, result.stdout
+        seconds, user, system, kib = timing.read().split()[-4:]
+    return float(seconds), float(user) + float(system), float(kib) / 1024.0, result.stdout
 
 
-def generate(build, out, domain, size_flag, size, seed, name, trace=False):
+def generate(build, out, domain, size_flag, size, seed, name, trace=False, extra=()):
     command = [os.path.join(build, "tools", "generate-packing"), "--domain", domain, size_flag, str(size),
                "--radius-ratio", "10", "--seed", str(seed), "--output", out, "--name", name, "--quiet",
-               "--no-pictures"] + (["--trace"] if trace else [])
-    seconds, mib, _ = run_timed(command)
+               "--no-pictures"] + (["--trace"] if trace else []) + list(extra)
+    seconds, cpu, mib, _ = run_timed(command)
     with open(os.path.join(out, name + "_report.json")) as f:
         report = json.load(f)
     m = report["metrics"]
     return {
-        "seconds": seconds, "peak_mib": mib, "particles": m["particle_count"],
+        "seconds": seconds, "cpu_seconds": cpu, "peak_mib": mib, "particles": m["particle_count"],
         "porosity": m["nominal_porosity"], "corrected_porosity": m["corrected_porosity"],
         "coordination": m["coordination_number"], "max_overlap": m["max_overlap"],
         "fabric": m["fabric_eigenvalues"], "radius_ratio": m["radius_ratio"],
@@ -175,7 +176,12 @@ def main():
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--quick", action="store_true", help="small sizes only (a smoke test of the script)")
     parser.add_argument("--skip-scaling", action="store_true")
+    parser.add_argument("--only", choices=["2d", "3d"], help="run only this target case (and its scaling sizes)")
+    parser.add_argument("--generator-args", default="",
+                        help='extra generate-packing arguments, e.g. "--compaction off" for a side-by-side run')
+    parser.add_argument("--no-competitors", action="store_true", help="do not run GenGeo and Yade")
     args = parser.parse_args()
+    extra = args.generator_args.split()
     os.makedirs(args.out, exist_ok=True)
     work = os.path.join(args.out, "runs")
     os.makedirs(work, exist_ok=True)
@@ -186,19 +192,25 @@ def main():
         ("2D square %g, r_mean 0.223" % side2d, "rectangle 0 0 %r %r" % (side2d, side2d), "--mean-radius", 0.223, 2),
         ("3D cylinder 1 x 1, %d spheres" % int(30000 * scale), "cylinder 0 0 0.5 0 1", "--count", int(30000 * scale), 3),
     ]
+    if args.only:
+        cases = [c for c in cases if "%dd" % c[4] == args.only]
     summary_rows = []
     trace_report = None
     radius_range_3d = (0.0045, 0.045)
     for label, domain, flag, size, dim in cases:
         rows = []
         for seed in range(1, args.runs + 1):
-            rows.append(generate(args.build, work, domain, flag, size, seed, "case%dd_seed%d" % (dim, seed)))
+            rows.append(generate(args.build, work, domain, flag, size, seed, "case%dd_seed%d" % (dim, seed),
+                                 extra=extra))
             if dim == 2 and seed == 1:
                 # A separate traced run: recording costs time, so it is not one of the timed runs.
-                trace_report = generate(args.build, work, domain, flag, size, seed, "trace2d", trace=True)["report"]
-            print("  %s seed %d: %.1f s, %d particles, porosity %.4f, nc %.3f" % (
-                label, seed, rows[-1]["seconds"], rows[-1]["particles"], rows[-1]["porosity"], rows[-1]["coordination"]),
-                file=sys.stderr)
+                trace_report = generate(args.build, work, domain, flag, size, seed, "trace2d", trace=True,
+                                        extra=extra)["report"]
+            last = rows[-1]
+            print("  %s seed %d: %.1f s wall, %.1f s CPU, %d particles, porosity %.4f, nc %.3f, max overlap %.3g, "
+                  "fabric %s" % (label, seed, last["seconds"], last["cpu_seconds"], last["particles"], last["porosity"],
+                                 last["coordination"], last["max_overlap"], " ".join("%.4f" % v for v in last["fabric"])),
+                  file=sys.stderr)
         if dim == 3:
             m0 = rows[0]["report"]["metrics"]
             radius_range_3d = (m0["min_radius"], m0["max_radius"])
@@ -208,30 +220,30 @@ def main():
             "porosity": median_row(rows, "porosity"), "corrected_porosity": median_row(rows, "corrected_porosity"),
             "coordination": median_row(rows, "coordination"), "max_overlap": median_row(rows, "max_overlap"),
             "fabric": fabric, "radius_ratio": median_row(rows, "radius_ratio"), "seconds": median_row(rows, "seconds"),
-            "peak_mib": median_row(rows, "peak_mib")})
+            "cpu_seconds": median_row(rows, "cpu_seconds"), "peak_mib": median_row(rows, "peak_mib")})
 
     # Side-by-side competitors on the same domains.
-    python = find_gengeo_python()
+    python = None if args.no_competitors else find_gengeo_python()
     if python:
-        g2 = run_gengeo(python, GENGEO_2D, [side2d, 0.05, 0.5])
+        g2 = {"error": "not run"} if args.only == "3d" else run_gengeo(python, GENGEO_2D, [side2d, 0.05, 0.5])
         if "error" not in g2:
             summary_rows.append({"case": cases[0][0], "generator": "GenGeo InsertGenerator2D, r 0.05-0.5", **g2,
                                  "corrected_porosity": float("nan"), "max_overlap": float("nan"),
                                  "fabric": [], "radius_ratio": 10.0, "peak_mib": float("nan")})
         # 3D: the radius range of our own 3D run, so both fill the cylinder with the same sizes.
-        g3 = run_gengeo(python, GENGEO_3D, [radius_range_3d[0], radius_range_3d[1]])
+        g3 = {"error": "not run"} if args.only == "2d" else run_gengeo(python, GENGEO_3D, [radius_range_3d[0], radius_range_3d[1]])
         if "error" not in g3:
             summary_rows.append({"case": cases[1][0], "generator": "GenGeo InsertGenerator3D", **g3,
                                  "corrected_porosity": float("nan"), "max_overlap": float("nan"), "fabric": [],
                                  "radius_ratio": 10.0, "peak_mib": float("nan")})
-    else:
+    elif not args.no_competitors:
         print("  GenGeo not installed (apt-get install python3-gengeo): no side-by-side run", file=sys.stderr)
-    yade = run_yade(0.015 if not args.quick else 0.035)
+    yade = None if args.no_competitors or args.only == "2d" else run_yade(0.015 if not args.quick else 0.035)
     if yade and "error" not in yade:
         summary_rows.append({"case": cases[1][0], "generator": "Yade randomDensePack", **yade,
                              "corrected_porosity": float("nan"), "max_overlap": float("nan"), "fabric": [],
                              "radius_ratio": 3.0, "peak_mib": float("nan")})
-    elif yade is None:
+    elif yade is None and not (args.no_competitors or args.only == "2d"):
         print("  yade not installed (apt-get install yade): no side-by-side run", file=sys.stderr)
 
     with open(os.path.join(args.out, "targets.csv"), "w") as f:
@@ -243,15 +255,16 @@ def main():
                 r["coordination"], r["max_overlap"], " ".join("%.4f" % v for v in r["fabric"]),
                 r["radius_ratio"], r["seconds"], r["peak_mib"]))
 
-    print("\n| case | generator | N | porosity (nominal) | porosity (corrected) | nc | max overlap / r_mean | fabric eigenvalues | r_max/r_min | time [s] | peak MiB |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    print("\n| case | generator | N | porosity (nominal) | porosity (corrected) | nc | max overlap / r_mean | fabric eigenvalues | r_max/r_min | time [s] | CPU [s] | peak MiB |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in summary_rows:
-        print("| %s | %s | %d | %.2f %% | %s | %s | %s | %s | %.2f | %.1f | %s |" % (
+        print("| %s | %s | %d | %.2f %% | %s | %s | %s | %s | %.2f | %.1f | %s | %s |" % (
             r["case"], r["generator"], r["particles"], 100 * r["porosity"],
             "%.2f %%" % (100 * r["corrected_porosity"]) if not math.isnan(r["corrected_porosity"]) else "-",
             "%.3f" % r["coordination"] if not math.isnan(r["coordination"]) else "-",
             "%.2g" % r["max_overlap"] if not math.isnan(r["max_overlap"]) else "-",
             " ".join("%.4f" % v for v in r["fabric"]) or "-", r["radius_ratio"], r["seconds"],
+            "%.1f" % r["cpu_seconds"] if "cpu_seconds" in r else "-",
             "%.0f" % r["peak_mib"] if not math.isnan(r["peak_mib"]) else "-"))
 
     # Error against run time: porosity and largest overlap after every LM iteration of a
@@ -278,6 +291,8 @@ def main():
         sizes = {2: [1000, 10000, 56000, 200000], 3: [1000, 10000, 30000, 100000]}
         if args.quick:
             sizes = {2: [500, 2000], 3: [500, 2000]}
+        if args.only:
+            sizes = {d: ns for d, ns in sizes.items() if "%dd" % d == args.only}
         path = os.path.join(args.out, "scaling.csv")
         with open(path, "w") as f:
             f.write("dimension,particles_requested,particles,seconds,peak_mib\n")
@@ -287,7 +302,7 @@ def main():
                 for n in ns:
                     side = (n * math.pi * 0.223 ** 2 / 0.91) ** 0.5
                     domain = "rectangle 0 0 %r %r" % (side, side) if dim == 2 else "cylinder 0 0 0.5 0 1"
-                    runs = [generate(args.build, work, domain, "--count", n, seed, "scale%dd" % dim)
+                    runs = [generate(args.build, work, domain, "--count", n, seed, "scale%dd" % dim, extra=extra)
                             for seed in range(1, (args.runs if n <= 30000 else 1) + 1)]
                     t = statistics.median(r["seconds"] for r in runs)
                     mem = statistics.median(r["peak_mib"] for r in runs)
