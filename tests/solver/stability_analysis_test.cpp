@@ -304,15 +304,21 @@ TEST(StabilityTimeStep, DashpotsAndLocalDampingLowerTheLimit) {
 }
 
 // Walls act only in compression (impacts): the factor on the linear limit is graded by the
-// damping (0.85 below 0.05, 0.94 below 0.1, none from 0.1: the benchmark's wall scans), and an
-// explicit option value replaces it.
+// damping and dimension (the benchmark's wall scans), and an explicit option value replaces it.
 TEST(StabilityWalls, DampedUnilateralFactor) {
-  EXPECT_EQ(DampedUnilateralFactor(0.0), 0.85);
-  EXPECT_EQ(DampedUnilateralFactor(0.0499), 0.85);
-  EXPECT_EQ(DampedUnilateralFactor(0.05), 0.94);
-  EXPECT_EQ(DampedUnilateralFactor(0.0999), 0.94);
-  EXPECT_EQ(DampedUnilateralFactor(0.1), 1.0);
-  EXPECT_EQ(DampedUnilateralFactor(0.5), 1.0);
+  EXPECT_EQ(DampedUnilateralFactor(0.0, 2), 0.85);
+  EXPECT_EQ(DampedUnilateralFactor(0.0499, 2), 0.85);
+  EXPECT_EQ(DampedUnilateralFactor(0.05, 2), 0.94);
+  EXPECT_EQ(DampedUnilateralFactor(0.0999, 2), 0.94);
+  EXPECT_EQ(DampedUnilateralFactor(0.1, 2), 1.0);
+  EXPECT_EQ(DampedUnilateralFactor(0.5, 2), 1.0);
+  // 3D failed 1 % and 3 % beyond the 2D factors' steps at alpha 0.05 and 0.1.
+  EXPECT_EQ(DampedUnilateralFactor(0.0, 3), 0.85);
+  EXPECT_EQ(DampedUnilateralFactor(0.05, 3), 0.92);
+  EXPECT_EQ(DampedUnilateralFactor(0.1, 3), 0.96);
+  EXPECT_EQ(DampedUnilateralFactor(0.2999, 3), 0.96);
+  EXPECT_EQ(DampedUnilateralFactor(0.3, 3), 1.0);
+  EXPECT_EQ(DampedUnilateralFactor(0.7, 3), 1.0);  // the virtual laboratory's damping
   // The SC specimen between two walls 10 kn (top and bottom rows touching them).
   const Specimen sc = SquareSpecimen();
   SceneOptions<2> scene = PlainScene(std::nullopt, 0.35);
