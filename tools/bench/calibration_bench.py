@@ -150,7 +150,7 @@ def main():
             png = os.path.join(args.out, "error_vs_time.png")
             script = ("set terminal pngcairo size 900,650; set output '%s'; set datafile separator ',';"
                       "set logscale y; set xlabel 'wall time to the first prediction [s]';"
-                      "set ylabel 'RMS relative error of E, nu, UCS (round 1)'; set grid;"
+                      "set ylabel 'RMS relative error of E, nu, UCS (round 1)'; set grid; set key bottom right;"
                       "plot '%s' every ::1 using 3:(100*$7):(sprintf('%%d, %%d', $1, $2)) with labels offset 0,1 "
                       "notitle, '' every ::1 using 3:(100*$7) with points pt 7 ps 1.5 title 'N discs, sweep levels'"
                       % (png, study))
