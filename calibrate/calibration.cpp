@@ -109,7 +109,7 @@ Packing<Dim> Generate(const Domain<Dim>& domain, int count, double mean_radius, 
 // --- Maps -------------------------------------------------------------------------------
 
 nlohmann::json ProtocolJson(const LabTestOptions& t) {
-  return {{"loading_rate_group", t.loading_rate_group},
+  nlohmann::json j = {{"loading_rate_group", t.loading_rate_group},
           {"platen_speed_m_per_s", t.platen_speed_m_per_s},
           {"post_peak_stress_fraction", t.post_peak_stress_fraction},
           {"modulus_window", {t.modulus_window_low, t.modulus_window_high}},
@@ -122,6 +122,9 @@ nlohmann::json ProtocolJson(const LabTestOptions& t) {
           {"max_pause_transits", t.max_pause_transits},
           {"velocity_ramp_transits", t.velocity_ramp_transits},
           {"strain_boundary_margin", t.strain_boundary_margin}};
+  // Only when used, so that maps stored before inertia scaling existed keep their key.
+  if (t.mass_scaling_budget > 0.0) j["mass_scaling_budget"] = t.mass_scaling_budget;
+  return j;
 }
 
 nlohmann::json SweepSpecimenJson(const PackingDescriptors& ucs, const PackingDescriptors& bts, std::uint64_t seed,
@@ -635,6 +638,14 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
       next = c.next;
       what << c.what;
     }
+    // Both strengths honoured: Rt/Rn holds sigma_c / sigma_t (Rn then follows the UCS).
+    if (!tensile_ok) {
+      std::vector<StrengthRatioRound> history;
+      for (const VerificationRound& r : summary.rounds) history.push_back({r.ratios, r.ucs_pa / r.tensile_strength_pa});
+      const PoissonCorrection c = CorrectStrengthRatio(chosen.maps, next, history, target.StrengthRatio());
+      next = c.next;
+      what << c.what;
+    }
     // How E/kn and strength/Rn change with the ratio change: from the last two rounds when
     // kt/kn moved between them (measured on this specimen), else from the maps.
     const Eigen::VectorXd x_old = at(ratios), x_new = at(next);
@@ -660,6 +671,10 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
                                         v.ucs_pa / v.material.bond_tensile_strength_n)
                         : secant_change(a.tensile_strength_pa / a.material.bond_tensile_strength_n,
                                         v.tensile_strength_pa / v.material.bond_tensile_strength_n);
+        // The secant is along kt/kn; a move of Rt/Rn in the same round adds the maps' part.
+        MicroRatios kt_only = next;
+        kt_only.shear_to_tensile_strength = ratios.shear_to_tensile_strength;
+        strength_change *= strength_map.Evaluate(x_new) / strength_map.Evaluate(at(kt_only));
       }
     }
     const double new_kn = kn * (target.youngs_modulus_pa / v.youngs_modulus_pa) / elastic_change;
@@ -705,6 +720,7 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     scene.material.density_kg_per_m3 = last.ucs.density_used_kg_per_m3;
     scene.material.translational_damping = scene.material.rotational_damping = options.test.local_damping;
     scene.material.normal_dashpot_ratio = scene.material.tangential_dashpot_ratio = options.test.dashpot_ratio;
+    scene.material.mass_scaling_budget = options.test.mass_scaling_budget;  // as the tests ran
     StabilityOptions stability;
     stability.max_spectral_radius = options.max_spectral_radius;
     stability.proposed_time_step_s = last.ucs.time_step_s;

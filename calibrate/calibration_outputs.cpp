@@ -42,6 +42,7 @@ void WriteScene(std::ostream& out, const std::string& packing_file, const Materi
   out << "modulus_window = [" << Exact(test.modulus_window_low) << ", " << Exact(test.modulus_window_high) << "]\n";
   out << "local_damping = " << Exact(test.local_damping) << "\n";
   out << "dashpot_ratio = " << Exact(test.dashpot_ratio) << "\n";
+  out << "mass_scaling = " << Exact(test.mass_scaling_budget) << "\n";
   out << "pause_kinetic_energy_ratio = " << Exact(test.pause_kinetic_energy_ratio) << "\n";
   out << "platen_stiffness_ratio = " << Exact(test.platen_stiffness_ratio) << "\n";
   out << "platen_friction = " << Exact(test.platen_friction) << "\n\n";

@@ -3,6 +3,7 @@
 #include <nlopt.hpp>
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -321,10 +322,21 @@ std::string InversionResult::FullReport() const {
 
 namespace {
 
-// One lever of CorrectPoisson: moves `field` of *next to remove `share` of the last round's
-// nu error; returns the share the box did not let it remove (0: all of it).
-double MovePoisson(const MapSet& maps, const std::vector<PoissonRound>& history, double target_poisson,
-                   double share, MicroRatio input, double MicroRatios::*field, PoissonCorrection* c) {
+// A measured quantity of a verification round and the ratios it was measured at.
+struct MeasuredRound {
+  MicroRatios ratios;
+  double value = 0.0;
+};
+
+// One lever of a verification correction: moves `field` of c->next to remove `share` of the
+// last round's error in a measured quantity (Newton step along that input); returns the
+// share the box did not let it remove (0: all of it). The slope is the secant of the last two
+// rounds when only this input moved between them and it agrees in sign with the maps'
+// `map_slope` (at the current point), else the maps' slope; a step is at most half the box.
+double MoveLever(const MapSet& maps, const std::vector<MeasuredRound>& history, double target,
+                 double share, MicroRatio input, double MicroRatios::*field,
+                 const std::function<double(const Eigen::VectorXd& x, int k)>& map_slope,
+                 PoissonCorrection* c) {
   int k = -1;
   for (size_t i = 0; i < maps.inputs.size(); ++i)
     if (maps.inputs[i] == input) k = static_cast<int>(i);
@@ -333,23 +345,23 @@ double MovePoisson(const MapSet& maps, const std::vector<PoissonRound>& history,
     const std::vector<double> x = maps.InputsOf(r);
     return Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())).eval();
   };
-  const PoissonRound& now = history.back();
-  double slope = maps.poisson_ratio.Gradient(at(c->next))[k];
+  const MeasuredRound& now = history.back();
+  double slope = map_slope(at(c->next), k);
   if (history.size() >= 2) {
-    const PoissonRound& before = history[history.size() - 2];
+    const MeasuredRound& before = history[history.size() - 2];
     const Eigen::VectorXd moved = at(now.ratios) - at(before.ratios);
     bool only_this = std::abs(moved[k]) > 1e-6;
     for (Eigen::Index i = 0; i < moved.size(); ++i)
       if (i != k && std::abs(moved[i]) > 1e-9) only_this = false;
     if (only_this) {
-      const double secant = (now.poisson_ratio - before.poisson_ratio) / moved[k];
+      const double secant = (now.value - before.value) / moved[k];
       if (secant * slope > 0.0) slope = secant;
     }
   }
   if (std::abs(slope) <= 1e-9) return share;
   const Eigen::VectorXd lower = maps.Lower(), upper = maps.Upper();
   const double half_box = 0.5 * (upper[k] - lower[k]);
-  const double step = std::clamp(share * (target_poisson - now.poisson_ratio) / slope, -half_box, half_box);
+  const double step = std::clamp(share * (target - now.value) / slope, -half_box, half_box);
   const double from = c->next.*field;
   std::vector<double> x = maps.InputsOf(c->next);
   x[k] = std::clamp(x[k] + step, lower[k], upper[k]);
@@ -366,13 +378,36 @@ double MovePoisson(const MapSet& maps, const std::vector<PoissonRound>& history,
 PoissonCorrection CorrectPoisson(const MapSet& maps, const std::vector<PoissonRound>& history,
                                  double target_poisson) {
   if (history.empty()) throw std::invalid_argument("CorrectPoisson: no round to correct");
+  std::vector<MeasuredRound> measured;
+  for (const PoissonRound& r : history) measured.push_back({r.ratios, r.poisson_ratio});
+  auto slope = [&](const Eigen::VectorXd& x, int k) { return maps.poisson_ratio.Gradient(x)[k]; };
   PoissonCorrection c;
   c.next = history.back().ratios;
-  const double left = MovePoisson(maps, history, target_poisson, 1.0, MicroRatio::kStiffnessRatio,
-                                  &MicroRatios::tangential_to_normal_stiffness, &c);
+  const double left = MoveLever(maps, measured, target_poisson, 1.0, MicroRatio::kStiffnessRatio,
+                                &MicroRatios::tangential_to_normal_stiffness, slope, &c);
   if (left > 0.5)
-    MovePoisson(maps, history, target_poisson, left, MicroRatio::kParticleCompliance,
-                &MicroRatios::normal_stiffness_to_particle, &c);
+    MoveLever(maps, measured, target_poisson, left, MicroRatio::kParticleCompliance,
+              &MicroRatios::normal_stiffness_to_particle, slope, &c);
+  return c;
+}
+
+PoissonCorrection CorrectStrengthRatio(const MapSet& maps, const MicroRatios& next,
+                                       const std::vector<StrengthRatioRound>& history,
+                                       double target_ratio) {
+  if (history.empty()) throw std::invalid_argument("CorrectStrengthRatio: no round to correct");
+  if (!(target_ratio > 0.0)) throw std::invalid_argument("CorrectStrengthRatio: target ratio <= 0");
+  // In logarithms: the ratio of the two strength groups differs from sigma_c / sigma_t by the
+  // specimens' descriptors only (a constant factor), so d ln(ratio) is the maps'.
+  std::vector<MeasuredRound> measured;
+  for (const StrengthRatioRound& r : history) measured.push_back({r.ratios, std::log(r.strength_ratio)});
+  auto slope = [&](const Eigen::VectorXd& x, int k) {
+    return maps.compressive_group.Gradient(x)[k] / maps.compressive_group.Evaluate(x) -
+           maps.tensile_group.Gradient(x)[k] / maps.tensile_group.Evaluate(x);
+  };
+  PoissonCorrection c;
+  c.next = next;
+  MoveLever(maps, measured, std::log(target_ratio), 1.0, MicroRatio::kStrengthRatio,
+            &MicroRatios::shear_to_tensile_strength, slope, &c);
   return c;
 }
 

@@ -106,4 +106,19 @@ struct PoissonCorrection {
 PoissonCorrection CorrectPoisson(const MapSet& maps, const std::vector<PoissonRound>& history,
                                  double target_poisson);
 
+// A verification round's ratios and the sigma_c / sigma_t it measured (UCS over BTS).
+struct StrengthRatioRound {
+  MicroRatios ratios;
+  double strength_ratio = 0.0;
+};
+// When both strengths are honoured: moves Rt/Rn of `next` (the ratios after the other
+// corrections of this round) so that sigma_c / sigma_t reaches the target, by a Newton step
+// in ln(sigma_c / sigma_t) with the slope of ln(Psi_c / Psi_t) along Rt/Rn (or the secant of
+// the last two rounds when only Rt/Rn moved and it agrees in sign), at most half the box.
+// Unchanged when Rt/Rn is not an input of the maps or the ratio does not depend on it.
+// Without it a kt/kn correction of nu shifts sigma_t and nothing brings it back.
+PoissonCorrection CorrectStrengthRatio(const MapSet& maps, const MicroRatios& next,
+                                       const std::vector<StrengthRatioRound>& history,
+                                       double target_ratio);
+
 }  // namespace specimen

@@ -89,6 +89,7 @@ std::string LabTestResult::FullReport() const {
   row("strain rate", Format("%.4g 1/s", strain_rate_per_s));
   row("time step / critical", Format("%.4g s", time_step_s) + " / " + Format("%.4g s", critical_time_step_s));
   row("steps / simulated time", std::to_string(steps) + " / " + Format("%.5g s", simulated_time_s));
+  if (mass_scaling.scaled_particles > 0) row("inertia scaling", MassScalingLine(mass_scaling));
   if (pauses > 0)
     row("quasi-static guard", std::to_string(pauses) + " pauses, " +
                                   std::to_string(paused_steps) + " steps paused");
@@ -173,6 +174,7 @@ nlohmann::json LabTestResult::ToJson() const {
                   {"strain_rate_per_s", strain_rate_per_s},
                   {"time_step_s", time_step_s},
                   {"critical_time_step_s", critical_time_step_s},
+                  {"mass_scaling", MassScalingJson(mass_scaling)},
                   {"steps", steps},
                   {"pauses", pauses},
                   {"paused_steps", paused_steps},

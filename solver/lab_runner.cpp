@@ -555,6 +555,7 @@ LabTestResult LabRun<Dim>::Run() {
   r.bonds = static_cast<int>(bonds_.size());
   r.time_step_s = simulation_->time_step_s();
   r.critical_time_step_s = simulation_->critical_time_step().critical_time_step_s;
+  r.mass_scaling = simulation_->particles().mass_scaling;
   r.simulated_time_s = simulation_->time_s();
   r.strain_limit = strain_limit_;
   r.strain_cells = strain_.cell_count();

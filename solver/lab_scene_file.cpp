@@ -224,6 +224,7 @@ void ReadTest(const toml::table* table, const std::string& source, LabScene* sce
   t.Number("platen_friction", &o.platen_friction);
   t.Number("local_damping", &o.local_damping);
   t.Number("dashpot_ratio", &o.dashpot_ratio);
+  t.Number("mass_scaling", &o.mass_scaling_budget);
   t.Boolean("quasi_static_check", &o.check_quasi_static);
   t.Number("quasi_static_tolerance", &o.quasi_static_tolerance);
   t.Finish();

@@ -36,7 +36,7 @@
 //   velocity_ramp_transits, pause_kinetic_energy_ratio, max_pause_transits, sample_interval,
 //   strain_boundary_margin, servo_gain_fraction, servo_integral_transits,
 //   consolidation_tolerance, platen_stiffness_ratio, platen_friction, local_damping,
-//   dashpot_ratio, quasi_static_tolerance, threads
+//   dashpot_ratio, mass_scaling (mass_scaling_budget), quasi_static_tolerance, threads
 //
 //   [output]
 //   name = "ucs_2d"                   # file name prefix (default: the scene file's name)

@@ -106,6 +106,8 @@ bool LabTestOptions::IsValid(std::string* error) const {
     return fail("local_damping", local_damping, "in [0, 1)");
   if (!(dashpot_ratio >= 0.0) || !finite(dashpot_ratio))
     return fail("dashpot_ratio", dashpot_ratio, ">= 0");
+  if (!(mass_scaling_budget >= 0.0 && mass_scaling_budget <= 0.05))
+    return fail("mass_scaling_budget", mass_scaling_budget, "in [0, 0.05]");
   if (!(quasi_static_tolerance > 0.0) || !finite(quasi_static_tolerance))
     return fail("quasi_static_tolerance", quasi_static_tolerance, "> 0");
   if (num_threads < 1) return fail("num_threads", num_threads, ">= 1");
@@ -128,6 +130,7 @@ LabTestResult RunLabTest(const Packing<Dim>& packing, const MaterialParameters& 
     used.density_kg_per_m3 = material.density_kg_per_m3 / (1.0 - specimen.nominal_porosity);
   used.translational_damping = used.rotational_damping = options.local_damping;
   used.normal_dashpot_ratio = used.tangential_dashpot_ratio = options.dashpot_ratio;
+  used.mass_scaling_budget = options.mass_scaling_budget;
 
   // 3. Rate: V from the group (or given), and the strain limit.
   const double wave_speed = WaveSpeedScale<Dim>(used, specimen.mean_radius_m);

@@ -55,6 +55,8 @@ bool MaterialParameters::IsValid(std::string* error) const {
     return fail("normal_dashpot_ratio (xi_n)", normal_dashpot_ratio, "finite and >= 0");
   if (!(tangential_dashpot_ratio >= 0.0) || !std::isfinite(tangential_dashpot_ratio))
     return fail("tangential_dashpot_ratio (xi_t)", tangential_dashpot_ratio, "finite and >= 0");
+  if (!(mass_scaling_budget >= 0.0 && mass_scaling_budget <= 0.05))
+    return fail("mass_scaling_budget", mass_scaling_budget, "in [0, 0.05]");
   return true;
 }
 

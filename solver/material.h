@@ -58,6 +58,15 @@ struct MaterialParameters {
   double normal_dashpot_ratio = 0.0;
   double tangential_dashpot_ratio = 0.0;
 
+  // --- Inertia scaling (quasi-static runs) ---
+  // Share of the total mass that may be added to the particles that limit the time step,
+  // in [0, 0.05]; 0 = every particle has its true mass. The critical step is set by the
+  // lightest, stiffest particles (2 sqrt(m / k_eff), Madan (2.18)): in a polydisperse packing
+  // a few small ones. Raising their inertia to that of the limit a larger share reaches
+  // (PFC's density scaling, restricted to those few) lengthens the step at the cost of their
+  // own dynamics; quasi-static results do not depend on inertia. See particles.h.
+  double mass_scaling_budget = 0.0;
+
   bool deformable() const { return particle_youngs_modulus_pa.has_value(); }
   bool breakable() const {
     return std::isfinite(bond_tensile_strength_n) ||

@@ -136,7 +136,6 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
     normal_minus_coupling = normal_response[0] - coupling;
     shear = s.compliance.Strain(unit)[Dim];
   }
-  [[maybe_unused]] const double density = s.material.density_kg_per_m3;
   const int count = p.size();
   const double dt = s.time_step_s;
   const double alpha_t = s.material.translational_damping;
@@ -213,7 +212,8 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
     // eps_ii = (a - b) sigma_ii + b tr(sigma), eps_ij = c sigma_ij (material.h).
     if constexpr (kDeformable) {
       const SymmetricTensor<Dim> sym = SymmetricPart(moment);
-      const double scale = moment_scale * density * inverse_masses[q];
+      // 1/V from the radius, not rho/m: mass scaling (particles.h) changes m, not V.
+      const double scale = moment_scale / Volume<Dim>(r);
       double trace = 0.0;
       for (int k = 0; k < Dim; ++k) trace += sym[k];
       SymmetricTensor<Dim> strain;

@@ -7,6 +7,8 @@
 // t_n and velocities at t_{n-1/2}; a step computes forces at t_n and advances the
 // velocities to t_{n+1/2} and the positions to t_{n+1}.
 
+#include <nlohmann/json_fwd.hpp>
+#include <string>
 #include <vector>
 
 #include "generator/packing.h"
@@ -14,6 +16,26 @@
 #include "solver/vector_algebra.h"
 
 namespace specimen {
+
+// What MaterialParameters::mass_scaling_budget did (BuildParticles). The per-particle
+// bound 2 sqrt(m_i / k_eff,i) (Madan (2.18); k_eff,i from the packing's contact list, as
+// time_step.h) is raised to a common floor for every particle below it, m_i -> m_i
+// (floor / bound_i)^2 (J_i by the same factor), with the floor the highest one whose added
+// mass stays within the budget. The true volumes are kept (DDEM stresses use them).
+struct MassScalingSummary {
+  double budget = 0.0;            // the share of the total mass allowed
+  int scaled_particles = 0;       // particles whose inertia was raised
+  double added_mass_share = 0.0;  // added mass / true total mass
+  double largest_factor = 1.0;    // the largest m_i' / m_i
+  // The smallest per-particle bound after / before: the gain in the per-particle time step.
+  double bound_gain = 1.0;
+};
+
+// "312 particles, mass +1 % (budget 1 %), per-particle bound x2.01"; empty when nothing
+// was scaled. And the summary as JSON (budget, scaled_particles, added_mass_share,
+// largest_factor, bound_gain).
+std::string MassScalingLine(const MassScalingSummary& summary);
+nlohmann::json MassScalingJson(const MassScalingSummary& summary);
 
 template <int Dim>
 struct ParticleArrays {
@@ -27,6 +49,7 @@ struct ParticleArrays {
   std::vector<double> mass;             // [kg]
   std::vector<double> inverse_mass;     // [1/kg]
   std::vector<double> inverse_inertia;  // [1/(kg m^2)]
+  MassScalingSummary mass_scaling;      // identity unless the material asks for it
   // DDEM particle strain (Madan (2.46)), from the forces of the last evaluated step; the
   // next step's contact pass reads it. Empty for rigid particles.
   std::vector<SymmetricTensor<Dim>> strain;
@@ -34,8 +57,9 @@ struct ParticleArrays {
   int size() const { return static_cast<int>(radius.size()); }
 };
 
-// Particles at rest at the packing's centres. Throws InputError naming the first particle
-// with a radius that is not finite and > 0, or a centre that is not finite.
+// Particles at rest at the packing's centres, with the material's mass scaling applied (so
+// the Simulation and the stability analysis see the same inertia). Throws InputError naming
+// the first particle with a radius that is not finite and > 0, or a centre that is not finite.
 template <int Dim>
 ParticleArrays<Dim> BuildParticles(const Packing<Dim>& packing, const MaterialParameters& material,
                                    bool deformable);

@@ -489,6 +489,7 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
   const CriticalTimeStepEstimate per_particle = PerParticleCriticalTimeStep<Dim>(
       particles, network.ContactPairs(), material, network.WallStiffnessPerParticle());
   s.per_particle_bound_s = per_particle.per_particle_bound_s;
+  s.mass_scaling = particles.mass_scaling;
   s.guaranteed_bound_s = per_particle.guaranteed_bound_s;
   s.local_damping_factor = per_particle.local_damping_factor;
 

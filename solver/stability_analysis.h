@@ -75,6 +75,7 @@
 #include <vector>
 
 #include "generator/packing.h"
+#include "solver/particles.h"
 #include "solver/scene.h"
 #include "solver/stability_closed_forms.h"
 #include "solver/stability_lanczos.h"
@@ -169,6 +170,9 @@ struct StabilitySummary {
   double dashpot_factor = 1.0, local_damping_factor = 1.0;
   int dashpot_fixed_point_iterations = 0;
   double per_particle_bound_s = 0.0;           // Madan (2.18), the solver's default (time_step.h)
+  // Inertia scaling of the material (MaterialParameters::mass_scaling_budget): every step
+  // above is that of the scaled masses.
+  MassScalingSummary mass_scaling;
   double guaranteed_bound_s = 0.0;             // per-particle / sqrt(2)
   double gershgorin_bound_s = 0.0;             // 2/sqrt(Gershgorin), undamped: deterministic, safe
   double omega_max_ritz_rad_per_s = 0.0;       // sqrt(theta)

@@ -82,7 +82,7 @@ StabilityParameters ParseStabilityParameters(const std::string& text, const std:
         *m,
         {"normal_stiffness", "tangential_stiffness", "density", "particle_youngs_modulus",
          "particle_poisson_ratio", "plane_model", "translational_damping", "rotational_damping",
-         "normal_dashpot_ratio", "tangential_dashpot_ratio"},
+         "normal_dashpot_ratio", "tangential_dashpot_ratio", "mass_scaling"},
         where);
     p.normal_stiffness_n_per_m = ReadNumber(*m, "normal_stiffness", where);
     p.tangential_stiffness_n_per_m = ReadNumber(*m, "tangential_stiffness", where);
@@ -94,6 +94,7 @@ StabilityParameters ParseStabilityParameters(const std::string& text, const std:
     p.rotational_damping = ReadNumber(*m, "rotational_damping", where);
     p.normal_dashpot_ratio = ReadNumber(*m, "normal_dashpot_ratio", where);
     p.tangential_dashpot_ratio = ReadNumber(*m, "tangential_dashpot_ratio", where);
+    p.mass_scaling_budget = ReadNumber(*m, "mass_scaling", where);
   }
   if (const toml::table* t = table("time_step")) {
     const std::string where = source + " [time_step]";
@@ -150,6 +151,7 @@ StabilityParameters MergeStabilityParameters(const StabilityParameters& a,
   Prefer(p.rotational_damping, a.rotational_damping, b.rotational_damping);
   Prefer(p.normal_dashpot_ratio, a.normal_dashpot_ratio, b.normal_dashpot_ratio);
   Prefer(p.tangential_dashpot_ratio, a.tangential_dashpot_ratio, b.tangential_dashpot_ratio);
+  Prefer(p.mass_scaling_budget, a.mass_scaling_budget, b.mass_scaling_budget);
   Prefer(p.time_step_s, a.time_step_s, b.time_step_s);
   Prefer(p.safety_factor, a.safety_factor, b.safety_factor);
   Prefer(p.max_spectral_radius, a.max_spectral_radius, b.max_spectral_radius);
@@ -188,6 +190,7 @@ SceneOptions<Dim> StabilitySceneOf(const StabilityParameters& p, const Packing<D
   m.rotational_damping = p.rotational_damping.value_or(m.translational_damping);
   m.normal_dashpot_ratio = p.normal_dashpot_ratio.value_or(0.0);
   m.tangential_dashpot_ratio = p.tangential_dashpot_ratio.value_or(m.normal_dashpot_ratio);
+  m.mass_scaling_budget = p.mass_scaling_budget.value_or(0.0);
   std::string error;
   if (!m.IsValid(&error)) throw InputError(error);
   if (p.time_step_s)

@@ -14,6 +14,7 @@
 //   rotational_damping = 0.0         # alpha_r, in [0, 1)
 //   normal_dashpot_ratio = 0.0       # xi_n >= 0
 //   tangential_dashpot_ratio = 0.0   # xi_t >= 0
+//   mass_scaling = 0.01              # inertia scaling budget, in [0, 0.05] (particles.h)
 //
 //   [time_step]
 //   time_step = 2.5e-8               # the proposed step to judge [s], > 0
@@ -48,6 +49,7 @@ struct StabilityParameters {
   std::optional<std::string> plane_model;  // "strain" | "stress"
   std::optional<double> translational_damping, rotational_damping;
   std::optional<double> normal_dashpot_ratio, tangential_dashpot_ratio;
+  std::optional<double> mass_scaling_budget;
   std::optional<double> time_step_s, safety_factor;
   std::optional<double> max_spectral_radius, time_step_margin;
   std::optional<std::vector<std::string>> wall_sides;

@@ -83,6 +83,8 @@ std::string StabilitySummary::FullReport() const {
     out << Line(": Ep %.6g Pa, nu_p %.4g, kn/(Ep %s) %.5g", particle_youngs_modulus_pa,
                 particle_poisson_ratio, length, kn_over_ep);
   out << "\n\nCritical time step\n";
+  if (mass_scaling.scaled_particles > 0)
+    out << "  inertia scaling: " << MassScalingLine(mass_scaling) << "\n";
   out << Line("  per-particle bound 2 sqrt(m/k_eff) (Madan (2.18))  %.6g s  (guaranteed %.6g s)\n",
               per_particle_bound_s, guaranteed_bound_s);
   out << Line("  Gershgorin bound (deterministic)                   %.6g s\n", gershgorin_bound_s);
@@ -171,6 +173,7 @@ nlohmann::json StabilitySummary::ToJson() const {
                 {"group_length_m", group_length_m}};
   nlohmann::json step;
   step["per_particle_bound_s"] = Finite(per_particle_bound_s);
+  step["mass_scaling"] = MassScalingJson(mass_scaling);
   step["guaranteed_bound_s"] = Finite(guaranteed_bound_s);
   step["gershgorin_bound_s"] = Finite(gershgorin_bound_s);
   step["dem_time_step_ritz_s"] = Finite(dem_time_step_ritz_s);

@@ -206,6 +206,9 @@ int main(int argc, char** argv) {
   app.add_option_function<double>(
       "--dashpot", [&v](double x) { v.normal_dashpot_ratio = v.tangential_dashpot_ratio = x; },
       "contact dashpot ratio xi_n = xi_t (>= 0)");
+  number("--mass-scaling", v.mass_scaling_budget,
+         "inertia scaling: share of the total mass that may be added to the particles that "
+         "limit the time step, in [0, 0.05] (run-test's mass_scaling)");
   number("--dt", v.time_step_s, "proposed time step to judge [s] (> 0)");
   number("--safety", v.safety_factor,
          "recommended step = safety x critical, in (0, 1], default 0.9");

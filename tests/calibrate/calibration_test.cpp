@@ -39,6 +39,11 @@ CalibrationOptions SmallOptions(const fs::path& maps) {
   o.rigid_design.axes = {{MicroRatio::kStiffnessRatio, 0.2, 0.8, 3}, {MicroRatio::kStrengthRatio, 2.0, 6.0, 3}};
   o.workers = 2;
   o.max_verification_rounds = 8;
+  // A 300-disc specimen: its peak moves by about 3 % between runs at equal parameters (the
+  // path of the final cascade), and sigma_t by up to 10 % with a small kt/kn step, so the
+  // strengths are held to what this size can show (the product's 2 % and 5 % need thousands).
+  o.tolerance_ucs = 0.04;
+  o.tolerance_tensile = 0.12;
   return o;
 }
 

@@ -188,5 +188,46 @@ TEST(CorrectPoisson, DeformableParticlesTakeTheStepKtOverKnCannot) {
 }
 
 
+
+// Verification corrections of sigma_c / sigma_t (CorrectStrengthRatio) on the rigid maps,
+// where at kt/kn = 0.5, Rt/Rn = 4: d ln(Psi_c / Psi_t) / d(Rt/Rn) = 0.05/0.65 - 0.001/0.059.
+MicroRatios Rigid(double kt_over_kn, double rt_over_rn) {
+  MicroRatios r;
+  r.tangential_to_normal_stiffness = kt_over_kn;
+  r.shear_to_tensile_strength = rt_over_rn;
+  return r;
+}
+
+TEST(CorrectStrengthRatio, MovesRtOverRnByTheMapsLogSlope) {
+  const MapSet maps = RigidMaps();
+  const double slope = 0.05 / 0.65 - 0.001 / 0.059;
+  const auto c = CorrectStrengthRatio(maps, Rigid(0.5, 4.0), {{Rigid(0.5, 4.0), 10.0}}, 10.5);
+  EXPECT_NEAR(c.next.shear_to_tensile_strength, 4.0 + std::log(1.05) / slope, 2e-3) << c.what;
+  EXPECT_NEAR(c.next.tangential_to_normal_stiffness, 0.5, 1e-12);
+  EXPECT_NE(c.what.find("Rt/Rn"), std::string::npos) << c.what;
+  // The kt/kn already chosen for this round (the nu correction) is kept.
+  const auto both = CorrectStrengthRatio(maps, Rigid(0.4, 4.0), {{Rigid(0.5, 4.0), 10.0}}, 10.5);
+  EXPECT_NEAR(both.next.tangential_to_normal_stiffness, 0.4, 1e-12);
+  EXPECT_GT(both.next.shear_to_tensile_strength, 4.0);
+  // Too low a ratio lowers Rt/Rn; a step beyond the box stops at its end (at most half of it).
+  const auto down = CorrectStrengthRatio(maps, Rigid(0.5, 4.0), {{Rigid(0.5, 4.0), 10.0}}, 9.5);
+  EXPECT_LT(down.next.shear_to_tensile_strength, 4.0);
+  const auto far = CorrectStrengthRatio(maps, Rigid(0.5, 9.0), {{Rigid(0.5, 9.0), 10.0}}, 30.0);
+  EXPECT_NEAR(far.next.shear_to_tensile_strength, 10.0, 1e-9);
+}
+
+TEST(CorrectStrengthRatio, UsesTheSecantAndLeavesMapsWithoutTheLever) {
+  // Two rounds with only Rt/Rn moved: ln ratio rose by ln(1.1) over +1 (the maps say 0.06):
+  // to gain ln(1.05) more the secant asks for ln(1.05)/ln(1.1) = 0.512.
+  const MapSet maps = RigidMaps();
+  const auto c = CorrectStrengthRatio(maps, Rigid(0.5, 4.0),
+                                      {{Rigid(0.5, 3.0), 10.0}, {Rigid(0.5, 4.0), 11.0}}, 11.55);
+  EXPECT_NEAR(c.next.shear_to_tensile_strength, 4.0 + std::log(1.05) / std::log(1.1), 1e-9);
+  // DDEM maps of a fixed Rt/Rn have no such lever.
+  const auto fixed = CorrectStrengthRatio(DeformableMaps(), Ddem(0.5, 0.1), {{Ddem(0.5, 0.1), 9.0}}, 10.0);
+  EXPECT_NEAR(fixed.next.shear_to_tensile_strength, 10.0, 1e-12);
+  EXPECT_TRUE(fixed.what.empty());
+}
+
 }  // namespace
 }  // namespace specimen

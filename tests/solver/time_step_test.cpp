@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "common/error.h"
 #include "tests/solver/madan_specimens.h"
@@ -146,6 +148,121 @@ TEST(CriticalTimeStep, A6HexagonalLatticeStableAndUnstable) {
         "A6 %s: 2.4567e-7 s bounded over 4000 steps (audit imbalance %.2e); 2.5166e-7 s: %s\n",
         modulus ? "DDEM" : "DEM", summary.energy.RelativeImbalance(),
         failure.substr(0, failure.find(':')).c_str());
+  }
+}
+
+// --- Inertia scaling (MaterialParameters::mass_scaling_budget, particles.h) ---
+
+MaterialParameters ScalingMaterial(double budget) {
+  MaterialParameters m;
+  m.normal_stiffness_n_per_m = 1e9;
+  m.tangential_stiffness_n_per_m = 2e8;
+  m.density_kg_per_m3 = 2500.0;
+  m.mass_scaling_budget = budget;
+  return m;
+}
+
+// The per-particle bound up to its common factor: sqrt(m / max(1, contacts)).
+std::vector<double> Bounds(const ParticleArrays<2>& p, const Packing<2>& packing) {
+  std::vector<int> count(p.size(), 0);
+  for (const auto& [i, j] : packing.contacts) ++count[i], ++count[j];
+  std::vector<double> bound(p.size());
+  for (int i = 0; i < p.size(); ++i) bound[i] = std::sqrt(p.mass[i] / std::max(1, count[i]));
+  return bound;
+}
+
+TEST(MassScaling, ChainOfFourClosedForm) {
+  // Discs r = 1, 1, 0.5, 1 mm in a row, contacts 0-1, 1-2, 2-3. Bounds sqrt(m/n): the small
+  // disc (m/4, two contacts) limits at sqrt(m/8), the next is disc 1 at sqrt(m/2). With a
+  // budget B of the total 3.25 m only disc 2 is raised, to the floor t with
+  // m2 ((t/b2)^2 - 1) = B M: factor 1 + B M / m2 = 1 + 0.01 x 3.25 / 0.25 = 1.13.
+  Packing<2> packing(Domain<2>::Rectangle(0, 0, 0.01, 0.01));
+  packing.radii = {1e-3, 1e-3, 0.5e-3, 1e-3};
+  packing.centres = {Vector<2>(1e-3, 5e-3), Vector<2>(3e-3, 5e-3), Vector<2>(4.5e-3, 5e-3),
+                     Vector<2>(6e-3, 5e-3)};
+  packing.contacts = {{0, 1}, {1, 2}, {2, 3}};
+  const ParticleArrays<2> plain = BuildParticles<2>(packing, ScalingMaterial(0.0), false);
+  const ParticleArrays<2> scaled = BuildParticles<2>(packing, ScalingMaterial(0.01), false);
+  EXPECT_EQ(plain.mass_scaling.scaled_particles, 0);
+  EXPECT_EQ(scaled.mass_scaling.scaled_particles, 1);
+  for (int i : {0, 1, 3}) {
+    EXPECT_EQ(scaled.mass[i], plain.mass[i]);
+    EXPECT_EQ(scaled.inverse_inertia[i], plain.inverse_inertia[i]);
+  }
+  EXPECT_NEAR(scaled.mass[2] / plain.mass[2], 1.13, 1e-12);
+  EXPECT_NEAR(plain.inverse_inertia[2] / scaled.inverse_inertia[2], 1.13, 1e-12);
+  EXPECT_NEAR(scaled.inverse_mass[2] * scaled.mass[2], 1.0, 1e-14);
+  EXPECT_NEAR(scaled.mass_scaling.added_mass_share, 0.01, 1e-14);
+  EXPECT_NEAR(scaled.mass_scaling.bound_gain, std::sqrt(1.13), 1e-12);
+  EXPECT_NEAR(scaled.mass_scaling.largest_factor, 1.13, 1e-12);
+  // The radius (hence the DDEM volume) is untouched.
+  EXPECT_EQ(scaled.radius, plain.radius);
+}
+
+TEST(MassScaling, PolydisperseFloorSpendsTheBudgetExactly) {
+  // 400 discs, radii spread 1:8, a ring of contacts plus pseudo-random extra pairs: every
+  // raised particle ends exactly at the floor, every other one above it, and the added mass
+  // is the budget.
+  Packing<2> packing(Domain<2>::Rectangle(0, 0, 1, 1));
+  const int n = 400;
+  unsigned state = 12345u;
+  auto next = [&] { return (state = state * 1103515245u + 12345u) / 4294967296.0; };
+  for (int i = 0; i < n; ++i) {
+    packing.centres.emplace_back(next(), next());
+    packing.radii.push_back(1e-3 * std::pow(8.0, next()));
+  }
+  for (int i = 0; i < n; ++i) packing.contacts.push_back({std::min(i, (i + 1) % n), std::max(i, (i + 1) % n)});
+  for (int k = 0; k < 2 * n; ++k) {
+    const int i = static_cast<int>(next() * n), j = static_cast<int>(next() * n);
+    if (i != j) packing.contacts.push_back({std::min(i, j), std::max(i, j)});
+  }
+  for (const double budget : {0.001, 0.01, 0.05}) {
+    const ParticleArrays<2> plain = BuildParticles<2>(packing, ScalingMaterial(0.0), false);
+    const ParticleArrays<2> scaled = BuildParticles<2>(packing, ScalingMaterial(budget), false);
+    const std::vector<double> before = Bounds(plain, packing), after = Bounds(scaled, packing);
+    const double floor = *std::min_element(after.begin(), after.end());
+    double total = 0.0, added = 0.0;
+    int raised = 0;
+    for (int i = 0; i < n; ++i) {
+      total += plain.mass[i];
+      added += scaled.mass[i] - plain.mass[i];
+      if (scaled.mass[i] != plain.mass[i]) {
+        ++raised;
+        EXPECT_NEAR(after[i], floor, 1e-12 * floor) << "particle " << i;
+        EXPECT_LT(before[i], floor);
+      } else {
+        EXPECT_GE(before[i], floor * (1 - 1e-12)) << "particle " << i;
+      }
+    }
+    EXPECT_NEAR(added / total, budget, 1e-12) << "budget " << budget;
+    EXPECT_EQ(raised, scaled.mass_scaling.scaled_particles);
+    EXPECT_GT(raised, 1);
+    EXPECT_NEAR(scaled.mass_scaling.bound_gain,
+                floor / *std::min_element(before.begin(), before.end()), 1e-12);
+  }
+}
+
+TEST(MassScaling, RaisesTheSimulationsCriticalStepAndRefusesABadBudget) {
+  // Equal discs of the square lattice: the corner discs (two contacts) and the sides (three)
+  // have larger bounds than the interior (four), so a budget raises the interior together.
+  const Specimen sc = SquareSpecimen();
+  SceneOptions<2> scene = PerParticle(Scene(sc, std::nullopt, 1e-4, 0.0));
+  Simulation<2> plain(sc.packing, scene);
+  scene.material.mass_scaling_budget = 0.01;
+  Simulation<2> scaled(sc.packing, scene);
+  const MassScalingSummary& s = scaled.particles().mass_scaling;
+  EXPECT_GT(s.scaled_particles, 100);
+  EXPECT_NEAR(s.added_mass_share, 0.01, 1e-12);
+  EXPECT_NEAR(scaled.critical_time_step().critical_time_step_s /
+                  plain.critical_time_step().critical_time_step_s,
+              s.bound_gain, 1e-12);
+  scene.material.mass_scaling_budget = 0.06;
+  try {
+    Simulation<2> refused(sc.packing, scene);
+    FAIL() << "a budget of 0.06 was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mass_scaling_budget"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("[0, 0.05]"), std::string::npos) << e.what();
   }
 }
 
