@@ -104,7 +104,10 @@
 //  - UCS, 10,044 discs: critical step x1.51, steps 422,400 -> 285,800; E 18.45 -> 18.47 GPa,
 //    nu 0.209 -> 0.209, peak 104.1 -> 102.8 MPa;
 //  - Brazilian, 4,928 discs: critical step x1.53, steps 50,000 -> 34,800, sigma_t 8.21 ->
-//    8.18 MPa.
+//    8.18 MPa;
+//  - 3D UCS, 5,000 spheres (data/scenes/example_ucs_3d.toml): critical step x2.29, steps
+//    115,800 -> 56,400; peak 31.42 / 31.12 MPa unscaled at 5e-5 / 2.5e-5, 31.05 / 31.40 MPa
+//    scaled; E 6.98 / 6.97 against 6.95 / 6.95 GPa.
 // The peaks move within the path dependence of the final cascade (header comment, "Loading
 // rate"). 0 gives every particle its true mass.
 //
