@@ -181,49 +181,40 @@ TEST_F(LabIrregularPacking, VoigtEstimateMadanTable) {
 
 // Inertia scaling (LabTestOptions::mass_scaling_budget): raising the inertia of the few
 // light particles that limit the time step changes the dynamics of those particles only; the
-// quasi-static elastic response stays (E' and nu' within 0.3 % and 0.002 here), and the step
-// grows (the limit is the certified analysis of the scaled masses, so the run is as stable).
+// quasi-static elastic response stays, and the step grows (the limit is the certified
+// analysis of the scaled masses, so the run is as stable). Measured: rigid E' -0.06 %, DDEM
+// E' -0.03 %; taking the DDEM volume from the scaled mass would give +0.23 %, so E' is held
+// to 0.12 %.
 TEST_F(LabIrregularPacking, InertiaScalingKeepsTheElasticResponse) {
   const double kn = 1e10;
-  const MaterialParameters material = Unbreakable(kn, 0.25 * kn);
-  LabTestOptions options;
-  options.strain_limit = 1e-3;
-  options.strain_boundary_margin = kMargin;
-  options.mass_scaling_budget = 0.0;
-  const LabTestResult plain = RunLabTest<2>(*packing_, material, options);
-  options.mass_scaling_budget = 0.02;
-  const LabTestResult scaled = RunLabTest<2>(*packing_, material, options);
-  std::printf("  E' %.5g -> %.5g Pa, nu' %.4f -> %.4f, steps %ld -> %ld, %s\n",
-              plain.elastic.youngs_modulus_in_plane_pa, scaled.elastic.youngs_modulus_in_plane_pa,
-              plain.elastic.poisson_ratio_in_plane, scaled.elastic.poisson_ratio_in_plane, plain.steps,
-              scaled.steps, MassScalingLine(scaled.mass_scaling).c_str());
-  EXPECT_EQ(plain.mass_scaling.scaled_particles, 0);
-  EXPECT_GT(scaled.mass_scaling.scaled_particles, 0);
-  EXPECT_NEAR(scaled.mass_scaling.added_mass_share, 0.02, 1e-12);
-  EXPECT_NEAR(scaled.elastic.youngs_modulus_in_plane_pa, plain.elastic.youngs_modulus_in_plane_pa,
-              0.003 * plain.elastic.youngs_modulus_in_plane_pa);
-  EXPECT_NEAR(scaled.elastic.poisson_ratio_in_plane, plain.elastic.poisson_ratio_in_plane, 0.002);
-  EXPECT_GT(scaled.critical_time_step_s, 1.1 * plain.critical_time_step_s);
-  EXPECT_LT(scaled.steps, plain.steps);
-
-  // DDEM (kt = 0, kn/(Ep l) = 0.2, nu_p = 0.35): the particle stresses use the true volumes,
-  // so the deformable response is unchanged too.
+  auto compare = [&](const char* label, const MaterialParameters& material) {
+    SCOPED_TRACE(label);
+    LabTestOptions options;
+    options.strain_limit = 1e-3;
+    options.strain_boundary_margin = kMargin;
+    options.mass_scaling_budget = 0.0;
+    const LabTestResult plain = RunLabTest<2>(*packing_, material, options);
+    options.mass_scaling_budget = 0.02;
+    const LabTestResult scaled = RunLabTest<2>(*packing_, material, options);
+    const double e0 = plain.elastic.youngs_modulus_in_plane_pa;
+    std::printf("  %s: E' %.5g -> %.5g Pa, nu' %.4f -> %.4f, steps %ld -> %ld, %s\n", label, e0,
+                scaled.elastic.youngs_modulus_in_plane_pa, plain.elastic.poisson_ratio_in_plane,
+                scaled.elastic.poisson_ratio_in_plane, plain.steps, scaled.steps,
+                MassScalingLine(scaled.mass_scaling).c_str());
+    EXPECT_EQ(plain.mass_scaling.scaled_particles, 0);
+    EXPECT_GT(scaled.mass_scaling.scaled_particles, 0);
+    EXPECT_NEAR(scaled.mass_scaling.added_mass_share, 0.02, 1e-12);
+    EXPECT_NEAR(scaled.elastic.youngs_modulus_in_plane_pa, e0, 0.0012 * e0);
+    EXPECT_NEAR(scaled.elastic.poisson_ratio_in_plane, plain.elastic.poisson_ratio_in_plane, 0.002);
+    EXPECT_GT(scaled.critical_time_step_s, 1.1 * plain.critical_time_step_s);
+    EXPECT_LT(scaled.steps, plain.steps);
+  };
+  compare("rigid, kt/kn 0.25", Unbreakable(kn, 0.25 * kn));
+  // DDEM (kt = 0, kn/(Ep l) = 0.2, nu_p = 0.35): the particle stresses use the true volumes.
   MaterialParameters deformable = Unbreakable(kn, 0.0);
   deformable.particle_youngs_modulus_pa = kn / 0.2;
   deformable.particle_poisson_ratio = 0.35;
-  options.mass_scaling_budget = 0.0;
-  const LabTestResult ddem_plain = RunLabTest<2>(*packing_, deformable, options);
-  options.mass_scaling_budget = 0.02;
-  const LabTestResult ddem_scaled = RunLabTest<2>(*packing_, deformable, options);
-  std::printf("  DDEM: E' %.5g -> %.5g Pa, nu' %.4f -> %.4f, steps %ld -> %ld\n",
-              ddem_plain.elastic.youngs_modulus_in_plane_pa, ddem_scaled.elastic.youngs_modulus_in_plane_pa,
-              ddem_plain.elastic.poisson_ratio_in_plane, ddem_scaled.elastic.poisson_ratio_in_plane,
-              ddem_plain.steps, ddem_scaled.steps);
-  // 0.12 %: measured -0.03 %; taking the volume from the scaled mass gives +0.23 %.
-  EXPECT_NEAR(ddem_scaled.elastic.youngs_modulus_in_plane_pa, ddem_plain.elastic.youngs_modulus_in_plane_pa,
-              0.0012 * ddem_plain.elastic.youngs_modulus_in_plane_pa);
-  EXPECT_NEAR(ddem_scaled.elastic.poisson_ratio_in_plane, ddem_plain.elastic.poisson_ratio_in_plane, 0.002);
-  EXPECT_LT(ddem_scaled.steps, ddem_plain.steps);
+  compare("DDEM", deformable);
 }
 
 // Madan A14: K from the isotropic test and G from the pure shear test agree with those of the
