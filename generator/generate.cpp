@@ -187,26 +187,27 @@ std::vector<char> RepairRegion(const Domain<Dim>& domain, const ContactGraph<Dim
   return seeds;
 }
 
-// Final projection: every overlap and every protrusion is removed exactly by shrinking
-// radii. Of an overlapping pair the smaller particle gives up the whole overlap: that costs
-// 2 pi r_small d of area in 2D (4 pi r_small^2 d in 3D), never more than halving it on both.
-// A particle that would fall below r_min is removed. Returns the largest shrink.
+// Final projection: every protrusion is removed exactly, and every overlap down to
+// `allowed_overlap` [m] (0: exactly), by shrinking radii. Of an overlapping pair the smaller
+// particle gives up the excess: that costs 2 pi r_small d of area in 2D (4 pi r_small^2 d in
+// 3D), never more than halving it on both. A particle that would fall below r_min is
+// removed. Returns the largest shrink.
 template <int Dim>
 double ProjectToNonOverlapping(const Domain<Dim>& domain, double radius_min, double ghost_band,
-                               std::vector<Vector<Dim>>& x, std::vector<double>& r,
-                               int* removed) {
+                               double allowed_overlap, std::vector<Vector<Dim>>& x,
+                               std::vector<double>& r, int* removed) {
   double largest = 0.0;
   for (int pass = 0; pass < 8; ++pass) {
     const ContactGraph<Dim> graph = BuildContactGraph<Dim>(domain, x, r, ghost_band);
     std::vector<double> shrink(x.size(), 0.0);
     bool any = false;
     for (const auto& e : graph.edges) {
-      const double gap = Gap<Dim>(x, r, e[0], e[1]);
-      if (gap >= 0.0) continue;
+      const double excess = -Gap<Dim>(x, r, e[0], e[1]) - allowed_overlap;
+      if (excess <= 0.0) continue;
       any = true;
       const int smaller = r[e[0]] <= r[e[1]] ? e[0] : e[1];
-      // A hair more than the overlap, so that round-off cannot leave one behind.
-      shrink[smaller] = std::max(shrink[smaller], -gap * (1.0 + 1e-12) + 1e-15 * r[smaller]);
+      // A hair more than the excess, so that round-off cannot leave one behind.
+      shrink[smaller] = std::max(shrink[smaller], excess * (1.0 + 1e-12) + 1e-15 * r[smaller]);
     }
     for (size_t i = 0; i < x.size(); ++i) {
       const double inside = domain.SignedDistance(x[i]);
@@ -527,19 +528,23 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
 
   if (options.compaction && s.compactions.empty()) run_compaction(-1);
 
-  // --- Final projection: no overlap and no protrusion at all. ---
+  // --- Final projection: no protrusion, and no overlap (or none above the tolerance). ---
   report(0.95, "removing the remaining overlaps");
+  const double allowed_overlap =
+      options.keep_small_overlaps ? options.overlap_tolerance * VolumeMeanRadius<Dim>(r) : 0.0;
   s.projection_max_shrink =
-      ProjectToNonOverlapping<Dim>(domain, radius_min, ghost_band, x, r, &s.projection_removed) /
+      ProjectToNonOverlapping<Dim>(domain, radius_min, ghost_band, allowed_overlap, x, r,
+                                   &s.projection_removed) /
       VolumeMeanRadius<Dim>(r);
 
+  graph = BuildContactGraph<Dim>(domain, x, r, ghost_band);
   if (options.record_trace) {
     GeneratorTracePoint point;
     point.round = static_cast<int>(s.rounds.size());
     point.lm_iterations = s.trace.empty() ? 0 : s.trace.back().lm_iterations;
     point.seconds = SecondsSince(start);
     point.nominal_porosity = NominalPorosity<Dim>(domain, r);
-    point.max_overlap = 0.0;  // the projection leaves none
+    point.max_overlap = Measure<Dim>(domain, graph, x, r, 0.0).max_overlap / expected_mean_radius;
     s.trace.push_back(point);
   }
 
@@ -549,7 +554,6 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
   packing.radii = std::move(r);
   packing.seed = options.seed;
   packing.created_by = std::string("specimen generate-packing ") + kVersion;
-  graph = BuildContactGraph<Dim>(domain, packing.centres, packing.radii, ghost_band);
   SetContactsFromCandidates<Dim>(packing, graph.edges, options.contact_tolerance);
   s.particles_final = packing.size();
   s.total_seconds = SecondsSince(start);

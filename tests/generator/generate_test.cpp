@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -40,6 +41,33 @@ TEST(GeneratePacking, TwoThousandDiscsInASquare) {
   // Contacts honour the tolerance.
   for (const auto& c : packing.contacts)
     EXPECT_LE(std::abs(packing.Gap(c[0], c[1])), 0.02 * m.mean_radius * (1 + 1e-12));
+}
+
+// keep_small_overlaps: the final projection leaves overlaps up to overlap_tolerance x the
+// mean radius (and no protrusion), so the packing is at least as dense as the exact one of
+// the same seed, and every overlapping pair is a contact of the output.
+TEST(GeneratePacking, KeepSmallOverlapsIsDenserAndWithinTheTolerance) {
+  const auto domain = Domain<2>::Rectangle(0, 0, 20, 20);
+  GeneratorOptions options = DefaultGeneratorOptions<2>();
+  options.particle_count = 2000;
+  GeneratorSummary summary;
+  const auto exact = GeneratePacking<2>(domain, options, &summary);
+  options.keep_small_overlaps = true;
+  const auto kept = GeneratePacking<2>(domain, options, &summary);
+  const auto m_exact = ComputePackingMetrics<2>(exact);
+  const auto m_kept = ComputePackingMetrics<2>(kept);
+  EXPECT_EQ(m_exact.overlapping_pairs, 0);
+  EXPECT_GT(m_kept.overlapping_pairs, 0);
+  EXPECT_LE(m_kept.max_overlap, options.overlap_tolerance * (1.0 + 1e-6));
+  EXPECT_EQ(m_kept.max_protrusion, 0.0);
+  EXPECT_LT(m_kept.nominal_porosity, m_exact.nominal_porosity);
+  for (int i = 0; i < kept.size(); ++i)
+    for (int j = i + 1; j < kept.size(); ++j)
+      if (kept.Gap(i, j) < 0.0) {
+        EXPECT_TRUE(std::binary_search(kept.contacts.begin(), kept.contacts.end(),
+                                       std::array<int, 2>{i, j}))
+            << i << " " << j;
+      }
 }
 
 TEST(GeneratePacking, SameSeedSameOutputDifferentSeedDifferentOutput) {
