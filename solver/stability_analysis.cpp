@@ -310,23 +310,41 @@ BoundaryResult<Dim> CriticalStep(const LinearisedNetwork<Dim>& network,
 // As phi has slope s at the root, that bound needs the relative tolerance (1 - s) x the gap
 // lambda_c / lambda* - 1. Returns nothing when no certificate was reached (the caller then
 // takes the inner-solve path).
+//
+// Tangential springs (kt > 0, no dashpots): the boundary operator is not symmetric (the
+// tangential forces enter the strain but are not corrected by it, Madan assumption 5), and
+// item 3 of the header takes its symmetric part
+//   H_s = A_t^T A_t + A_n^T P A_n + (A_n^T P G A_t + A_t^T G^T P A_n) / 2,  P = (I - S)^-1,
+// with A_t = K_t^1/2 C_t M^-1/2 and G = K_n^1/2 M_nt K_t^1/2 (the normal gap correction of the
+// strain of tangential forces). Completing the square,
+//   H_s = A_t^T A_t + (A_n + G A_t / 2)^T P (A_n + G A_t / 2) - A_t^T G^T P G A_t / 4
+//      <= A~^T diag(I, P) A~ = H_u,  A~ = [A_t; A_n + G A_t / 2],
+// since P is positive definite. H_u bounds H_s from above (the step stays on the safe side),
+// and it has the same pencil form with S acting on the normal block only: lambda_max(H_u)
+// is the fixed point of lambda_max(A~ A~^T + lambda diag(0, S)) = lambda, found as below
+// without inner solves. The dropped term vanishes on pure rotations (their tangential forces
+// load a particle with a couple, no strain); the benchmark measures what it costs.
 template <int Dim>
 std::optional<BoundaryResult<Dim>> PencilCriticalStep(const LinearisedNetwork<Dim>& network,
                                                       const ParticleCompliance<Dim>& compliance,
                                                       const StabilityOptions& options,
                                                       const LanczosOptions& lanczos,
                                                       double local_damping_factor,
-                                                      double lower_bound) {
-  const auto start = std::chrono::steady_clock::now();
-  const int links = network.link_count();
+                                                      double start, double lower_bound) {
+  const auto start_time = std::chrono::steady_clock::now();
+  const bool tangential = network.has_tangential();
+  const int size = network.link_count() * (tangential ? 1 + Dim : 1);
   std::vector<double> deformation;
   int iterations = 0;
   // phi(shift) by Lanczos on A A^T + shift S.
   auto solve = [&](double shift, LanczosOptions o) {
     const LanczosResult r = LargestEigenvalue(
-        links,
+        size,
         [&](const std::vector<double>& v, std::vector<double>& y) {
-          network.ApplyPencilOperator(compliance, shift, v, y);
+          if (tangential)
+            network.ApplyTangentialPencilOperator(compliance, shift, v, y);
+          else
+            network.ApplyPencilOperator(compliance, shift, v, y);
         },
         o);
     iterations += r.iterations;
@@ -334,21 +352,26 @@ std::optional<BoundaryResult<Dim>> PencilCriticalStep(const LinearisedNetwork<Di
   };
   // d phi / d shift = y^T S y (Hellmann-Feynman).
   auto slope_of = [&](const std::vector<double>& y) {
-    network.ApplyDdemOperator(compliance, y, deformation);
+    if (tangential)
+      network.ApplyTangentialPencilShift(compliance, y, deformation);
+    else
+      network.ApplyDdemOperator(compliance, y, deformation);
     double ysy = 0.0, yy = 0.0;
-    for (int c = 0; c < links; ++c) {
+    for (int c = 0; c < size; ++c) {
       ysy += y[c] * deformation[c];
       yy += y[c] * y[c];
     }
     return std::clamp(ysy / yy, 0.0, 1.0 - 1e-9);
   };
-  // Newton on phi(lambda) - lambda, from the lower bound lambda_max(A A^T) (= DEM).
+  // Newton on phi(lambda) - lambda, from `start` (the DEM value). phi - lambda is convex and
+  // decreasing: from a start above lambda* one step lands below it, and from there Newton
+  // climbs; never below `lower_bound`.
   const double tolerance = options.ddem_relative_tolerance;
   LanczosOptions newton = lanczos;
   newton.compute_ritz_vector = true;
   newton.relative_tolerance = tolerance;
-  newton.max_iterations = std::min(newton.max_iterations, 30);
-  double lambda = lower_bound, slope = 0.0;
+  newton.max_iterations = std::min(newton.max_iterations, 20);
+  double lambda = std::max(start, lower_bound), slope = 0.0;
   bool exact = false;
   int newton_steps = 0;
   for (; newton_steps < 50; ++newton_steps) {
@@ -366,7 +389,9 @@ std::optional<BoundaryResult<Dim>> PencilCriticalStep(const LinearisedNetwork<Di
   check.compute_ritz_vector = false;
   for (int attempt = 0; attempt < 4; ++attempt) {
     const double certified = lambda * (1.0 + gap);
-    check.relative_tolerance = std::clamp((1.0 - slope) * gap / 2.0, 1e-12, 0.4);
+    // phi(certified) is about lambda* (1 + slope gap): its bound needs eps below (1 - slope)
+    // gap; 0.7 of it leaves room for Newton's last step (0.2 of the tolerance).
+    check.relative_tolerance = std::clamp(0.7 * (1.0 - slope) * gap, 1e-12, 0.4);
     const LanczosResult r = solve(certified, check);
     if (r.certified_upper_bound <= certified) {
       BoundaryResult<Dim> result;
@@ -377,7 +402,7 @@ std::optional<BoundaryResult<Dim>> PencilCriticalStep(const LinearisedNetwork<Di
       result.lanczos.iterations = iterations;
       result.lanczos.exact = exact;
       result.lanczos.seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
       result.undamped_s = TimeStepOf(certified, 1.0);
       result.undamped_ritz_s = TimeStepOf(lambda, 1.0);
       result.critical_s = result.undamped_s * local_damping_factor;
@@ -592,12 +617,14 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
     // one; a tenfold allowance.
     const double inexact_margin =
         10.0 * options.inner_tolerance / std::max(1e-3, 1.0 - s.spectral_radius);
-    // Normal springs only, no dashpots: the pencil, without inner solves.
+    // No dashpots: the pencil, without inner solves. Normal springs: DDEM only stiffens,
+    // lambda_max(H) >= the DEM value; with tangential springs the coupling G can soften the
+    // top mode (benchmark: up to 0.4 %), so Newton starts from 0 there.
     std::optional<BoundaryResult<Dim>> pencil;
-    if (!network.has_tangential() && !network.has_rotation() && !network.has_dashpots() &&
-        !options.ddem_inner_solves)
+    if (!network.has_dashpots() && !options.ddem_inner_solves)
       pencil = PencilCriticalStep<Dim>(network, compliance, options, lanczos,
-                                       s.local_damping_factor, dem_ritz);
+                                       s.local_damping_factor, dem_ritz,
+                                       network.has_tangential() ? 0.0 : dem_ritz);
     s.ddem_time_step_inner_solves = !pencil;
     const BoundaryResult<Dim> ddem =
         pencil ? *pencil

@@ -42,12 +42,16 @@
 //    springs the tangential forces enter the strain but are not corrected by it (Madan
 //    assumption 5), K_eff is not symmetric, and its symmetric part is used: its largest
 //    eigenvalue bounds the real eigenvalues of K_eff from above (field of values) and equals
-//    them to first order. (I - L)^-1 is applied by conjugate gradients on I - S; with kt = 0
-//    and no dashpots no inner solve is needed: with A = K_n^1/2 C M^-1/2 the operator is
-//    A^T (I - S)^-1 A, whose nonzero eigenvalues are those of the pencil
-//    A A^T v = lambda (I - S) v on the links, and lambda_max is the fixed point of
-//    lambda_max(A A^T + lambda S) = lambda (Newton, then certified). As rho(B) -> 1
-//    the DDEM step falls to zero: the two limits interact (note 3.7 item 3).
+//    them to first order. Without dashpots no inner solve is needed: with
+//    A = K_n^1/2 C M^-1/2 the operator of normal springs is A^T (I - S)^-1 A, whose nonzero
+//    eigenvalues are those of the pencil A A^T v = lambda (I - S) v on the links, and
+//    lambda_max is the fixed point of lambda_max(A A^T + lambda S) = lambda (Newton, then
+//    certified). With tangential springs the symmetric part is bounded from above by an
+//    operator of the same form on (normal, tangential) link vectors (PencilCriticalStep in
+//    the .cpp: it drops a negative semi-definite term; 0.02-0.2 % lower steps than the
+//    symmetric part in tests/solver/stability_extreme_test.cpp, 0.05 % on 50,000 spheres).
+//    With dashpots (I - L)^-1 is applied by conjugate gradients on I - S (inner solves).
+//    As rho(B) -> 1 the DDEM step falls to zero: the two limits interact (note 3.7 item 3).
 //    Dashpots enter as in item 1 (their forces also enter the particle stress).
 // 4. Verdict for the proposed (or the recommended) time step: unstable beyond a limit,
 //    marginal within time_step_margin of dt_cr or with rho(B) above max_spectral_radius,
@@ -108,8 +112,8 @@ struct StabilityOptions {
   // certified bound allows for the inexact products (10 tau / (1 - rho(B)) relative).
   double inner_tolerance = 1e-5;
   int inner_max_iterations = 20000;
-  // The DDEM step of normal springs without dashpots is found without inner solves (the
-  // pencil, header item 3); true: by the inner solves anyway (for comparison and tests).
+  // The DDEM step without dashpots is found without inner solves (the pencil, header item
+  // 3); true: by the inner solves anyway (for comparison and tests).
   bool ddem_inner_solves = false;
   // Particles whose gap to a wall is below this are linked to it [m]; < 0: those within
   // contacts.bond_gap_tolerance x R (touching). The Simulation passes its search skin (the

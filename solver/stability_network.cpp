@@ -534,6 +534,20 @@ void LinearisedNetwork<Dim>::TangentialDisplacementOfStrain(
 }
 
 template <int Dim>
+template <typename LinkForce>
+std::vector<double> LinearisedNetwork<Dim>::WallMotions(const LinkForce& force) const {
+  std::vector<double> motion(wall_dof_.size(), 0.0);
+  for (size_t w = 0; w < wall_dof_.size(); ++w) {
+    const int d = wall_dof_[w];
+    if (d < 0) continue;
+    double sum = 0.0;
+    for (const int c : wall_node_links_[w]) sum += wall_normal_[w].dot(force(c));
+    motion[w] = sum * dof_inverse_root_mass_[d] * dof_inverse_root_mass_[d];
+  }
+  return motion;
+}
+
+template <int Dim>
 void LinearisedNetwork<Dim>::ApplyPencilOperator(const ParticleCompliance<Dim>& compliance,
                                                  double shift, const std::vector<double>& x,
                                                  std::vector<double>& y) const {
@@ -569,15 +583,8 @@ void LinearisedNetwork<Dim>::ApplyPencilOperator(const ParticleCompliance<Dim>& 
     }
     strain[p] = compliance.Strain(stress * (radius_[p] / volume_[p]));
   }
-  // Force-driven walls: their motion n_w . F / m_w.
-  std::vector<double> wall_motion(wall_dof_.size(), 0.0);
-  for (size_t w = 0; w < wall_dof_.size(); ++w) {
-    const int d = wall_dof_[w];
-    if (d < 0) continue;
-    double sum = 0.0;
-    for (const int c : wall_node_links_[w]) sum += root_kn[c] * x[c] * wall_normal_[w].dot(normals[c]);
-    wall_motion[w] = sum * inverse_root[d] * inverse_root[d];
-  }
+  const std::vector<double> wall_motion =
+      WallMotions([&](int c) { return Vector<Dim>(root_kn[c] * x[c] * normals[c]); });
   // 2. Per link: K_n^1/2 (n . d + shift x the strain correction), d = u_j - u_i.
   y.resize(links);
   const int* const link_i = link_i_.data();
@@ -598,6 +605,152 @@ void LinearisedNetwork<Dim>::ApplyPencilOperator(const ParticleCompliance<Dim>& 
     }
     y[c] = root_kn[c] * (n.dot(d) + shift * correction);
   }
+}
+
+template <int Dim>
+void LinearisedNetwork<Dim>::ApplyTangentialPencilOperator(
+    const ParticleCompliance<Dim>& compliance, double shift, const std::vector<double>& v,
+    std::vector<double>& y) const {
+  const int links = link_count(), count = particle_count();
+  if (static_cast<int>(v.size()) != links * (1 + Dim))
+    throw InputError("ApplyTangentialPencilOperator: the vector has " + std::to_string(v.size()) +
+                     " entries, the network " + std::to_string(links) + " x (1 + Dim) links");
+  // Six passes, alternating particles and links (each needs the previous one complete):
+  // A~^T v in passes 1-3 (ending as the motions M^-1/2 A~^T v), A~ of it in passes 4-6.
+  const Vector<Dim>* const normals = link_normal_.data();
+  const double* const root_kn = link_root_kn_.data();
+  const double* const kt = link_kt_.data();
+  const double* const radius = radius_.data();
+  const double* const volume = volume_.data();
+  const double* const inverse_root = dof_inverse_root_mass_.data();
+  const int* const offset = adjacency_offset_.data();
+  const int* const entry = adjacency_entry_.data();
+  const int* const link_i = link_i_.data();
+  const int* const link_j = link_j_.data();
+  std::vector<SymmetricTensor<Dim>>& strain_n = scratch_strain2_;
+  std::vector<SymmetricTensor<Dim>>& strain_t = scratch_strain_;
+  std::vector<Vector<Dim>>& force_t = pencil_tangential_;
+  std::vector<double>& shift_term = pencil_correction_;
+  std::vector<double>& elongation = pencil_normal_;
+  std::vector<Vector<Dim>>& motion = scratch_motion_;
+  std::vector<Angular<Dim>>& spin = scratch_spin_;
+  strain_n.resize(count);
+  strain_t.resize(count);
+  motion.resize(count);
+  spin.resize(count);
+  force_t.resize(links);
+  shift_term.resize(links);
+  elongation.resize(links);
+  y.resize(v.size());
+  const double* const vn = v.data();
+  const double* const vt = v.data() + links;
+
+  // 1. Particles: the strain of the normal forces f_n = K_n^1/2 v_n.
+#pragma omp parallel for if (count >= kParallelItems) num_threads(num_threads_) schedule(static)
+  for (int p = 0; p < count; ++p) {
+    SymmetricTensor<Dim> sum = SymmetricTensor<Dim>::Zero();
+    for (int e = offset[p]; e < offset[p + 1]; ++e) {
+      const int c = entry[e] >> 1;
+      sum += (root_kn[c] * vn[c]) * SymmetricOuter(normals[c], normals[c]);
+    }
+    strain_n[p] = compliance.Strain(sum * (radius[p] / volume[p]));
+  }
+  // 2. Links: its normal displacement N eps (for the shift: S v_n = K_n^1/2 N eps) and its
+  //    tangential displacement T eps, giving f_t = K_t^1/2 v_t + K_t T eps / 2
+  //    (K_t^1/2 (v_t + G^T v_n / 2)); v_t's normal component is dropped.
+#pragma omp parallel for if (links >= kParallelItems) num_threads(num_threads_) schedule(static)
+  for (int c = 0; c < links; ++c) {
+    const int i = link_i[c], j = link_j[c];
+    const Vector<Dim> n = normals[c];
+    Vector<Dim> m = radius[i] * (FullMatrix(strain_n[i]) * n);
+    if (j >= 0) m += radius[j] * (FullMatrix(strain_n[j]) * n);
+    const double normal_part = m.dot(n);
+    shift_term[c] = root_kn[c] * normal_part;
+    Vector<Dim> slip = Eigen::Map<const Vector<Dim>>(vt + Dim * c);
+    slip -= slip.dot(n) * n;
+    force_t[c] = std::sqrt(kt[c]) * slip + (0.5 * kt[c]) * (m - normal_part * n);
+  }
+  // 3. Particles: the motions M^-1 C^T f (GatherLinkForces, then the M^-1/2 of
+  //    LinkKinematics); prescribed axes do not move.
+#pragma omp parallel for if (count >= kParallelItems) num_threads(num_threads_) schedule(static)
+  for (int p = 0; p < count; ++p) {
+    Vector<Dim> translation = Vector<Dim>::Zero();
+    Angular<Dim> moment = ZeroAngular<Dim>();
+    for (int e = offset[p]; e < offset[p + 1]; ++e) {
+      const int c = entry[e] >> 1;
+      const Vector<Dim> f = (root_kn[c] * vn[c]) * normals[c] + force_t[c];
+      if (entry[e] & 1)
+        translation += f;
+      else
+        translation -= f;
+      moment -= Cross(normals[c], f);
+    }
+    const auto& dof = dof_[p];
+    for (int axis = 0; axis < Dim; ++axis) {
+      const int d = dof[axis];
+      motion[p][axis] = d >= 0 ? translation[axis] * inverse_root[d] * inverse_root[d] : 0.0;
+    }
+    moment *= radius[p];
+    if constexpr (Dim == 2) {
+      const int d = dof[2];
+      spin[p] = d >= 0 && rotation_ ? moment * inverse_root[d] * inverse_root[d] : 0.0;
+    } else {
+      for (int axis = 0; axis < 3; ++axis) {
+        const int d = dof[3 + axis];
+        spin[p][axis] =
+            d >= 0 && rotation_ ? moment[axis] * inverse_root[d] * inverse_root[d] : 0.0;
+      }
+    }
+  }
+  const std::vector<double> wall_motion = WallMotions(
+      [&](int c) { return Vector<Dim>((root_kn[c] * vn[c]) * normals[c] + force_t[c]); });
+  // 4. Links: the relative displacement d of the contact points; a_t = K_t^1/2 d_t is the
+  //    tangential block of y, K_t d_t the tangential force whose strain pass 5 needs.
+#pragma omp parallel for if (links >= kParallelItems) num_threads(num_threads_) schedule(static)
+  for (int c = 0; c < links; ++c) {
+    const int i = link_i[c], j = link_j[c];
+    const Vector<Dim> n = normals[c];
+    Vector<Dim> d = -motion[i] - RotationCross(spin[i], Vector<Dim>(radius[i] * n));
+    if (j >= 0)
+      d += motion[j] + RotationCross(spin[j], Vector<Dim>(-radius[j] * n));
+    else if (j <= -2)
+      d += wall_motion[-2 - j] * wall_normal_[-2 - j];
+    const double g = n.dot(d);
+    const Vector<Dim> slip = d - g * n;
+    elongation[c] = g;
+    force_t[c] = kt[c] * slip;
+    Eigen::Map<Vector<Dim>>(y.data() + links + Dim * c) = std::sqrt(kt[c]) * slip;
+  }
+  // 5. Particles: the strain of the tangential forces K_t d_t.
+#pragma omp parallel for if (count >= kParallelItems) num_threads(num_threads_) schedule(static)
+  for (int p = 0; p < count; ++p) {
+    SymmetricTensor<Dim> sum = SymmetricTensor<Dim>::Zero();
+    for (int e = offset[p]; e < offset[p + 1]; ++e) {
+      const int c = entry[e] >> 1;
+      sum += SymmetricOuter(normals[c], force_t[c]);
+    }
+    strain_t[p] = compliance.Strain(sum * (radius[p] / volume[p]));
+  }
+  // 6. Links: a_n = K_n^1/2 (g + N eps_t / 2), plus shift S v_n.
+#pragma omp parallel for if (links >= kParallelItems) num_threads(num_threads_) schedule(static)
+  for (int c = 0; c < links; ++c) {
+    const int i = link_i[c], j = link_j[c];
+    const Vector<Dim> n = normals[c];
+    double correction = radius[i] * QuadraticForm(strain_t[i], n);
+    if (j >= 0) correction += radius[j] * QuadraticForm(strain_t[j], n);
+    y[c] = root_kn[c] * (elongation[c] + 0.5 * correction) + shift * shift_term[c];
+  }
+}
+
+template <int Dim>
+void LinearisedNetwork<Dim>::ApplyTangentialPencilShift(const ParticleCompliance<Dim>& compliance,
+                                                        const std::vector<double>& v,
+                                                        std::vector<double>& y) const {
+  const int links = link_count();
+  std::vector<double> normal(v.begin(), v.begin() + links), image;
+  ApplyDdemOperator(compliance, normal, image);
+  y.assign(v.size(), 0.0);
+  std::copy(image.begin(), image.end(), y.begin());
 }
 
 template <int Dim>

@@ -141,6 +141,18 @@ class LinearisedNetwork {
   void ApplyPencilOperator(const ParticleCompliance<Dim>& compliance, double shift,
                            const std::vector<double>& x, std::vector<double>& y) const;
 
+  // The operator of the DDEM step with tangential springs, without dashpots (the pencil of
+  // stability_analysis.cpp for kt > 0): on link vectors v = (v_n, v_t), normals first, then
+  // Dim numbers per link (their normal components are ignored),
+  //   y = A~ A~^T v + shift (S v_n, 0),   A~ = [A_n + G A_t / 2; A_t],
+  // with A_n = K_n^1/2 C_n M^-1/2, A_t = K_t^1/2 C_t M^-1/2 and G = K_n^1/2 M_nt K_t^1/2 the
+  // normal gap correction of the strain of tangential forces. Size link_count() (1 + Dim).
+  void ApplyTangentialPencilOperator(const ParticleCompliance<Dim>& compliance, double shift,
+                                     const std::vector<double>& v, std::vector<double>& y) const;
+  // y = (S v_n, 0) on the vectors above (the slope of the pencil's fixed point).
+  void ApplyTangentialPencilShift(const ParticleCompliance<Dim>& compliance,
+                                  const std::vector<double>& v, std::vector<double>& y) const;
+
   void set_num_threads(int threads) { num_threads_ = std::max(1, threads); }
 
  private:
@@ -148,6 +160,10 @@ class LinearisedNetwork {
              double wall_reach_m);
   void BuildAdjacency();
   int internal_index(int particle) const { return internal_index_[particle]; }
+  // The motions n_w . F / m_w of the force-driven walls (0 for the others) under the link
+  // forces force(c) (the force on the particle end i of wall link c, as GatherLinkForces).
+  template <typename LinkForce>
+  std::vector<double> WallMotions(const LinkForce& force) const;
 
   int num_threads_ = 1;
   bool rotation_ = false, tangential_ = false, dashpots_ = false;
@@ -178,6 +194,8 @@ class LinearisedNetwork {
   mutable std::vector<Vector<Dim>> scratch_tangential_, scratch_motion_;
   mutable std::vector<Angular<Dim>> scratch_spin_;
   mutable std::vector<SymmetricTensor<Dim>> scratch_strain_, scratch_strain2_;
+  mutable std::vector<double> pencil_normal_, pencil_correction_, pencil_dofs_;
+  mutable std::vector<Vector<Dim>> pencil_tangential_, pencil_slip_;
 };
 
 }  // namespace specimen

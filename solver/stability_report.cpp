@@ -105,7 +105,7 @@ std::string StabilitySummary::FullReport() const {
     out << "    K_eff: " << EigenvalueLine(ddem_eigenvalue, "1/s^2")
         << (ddem_time_step_inner_solves
                 ? Line(", %d inner CG iterations\n", ddem_eigenvalue.inner_iterations)
-                : std::string(", pencil without inner solves (kt = 0)\n"));
+                : std::string(", pencil without inner solves\n"));
   }
   out << Line(
       "  damping factors: dashpots %.4f (the boundary z = -1 with 2c/dt), local damping "

@@ -156,6 +156,38 @@ TEST(StabilityExtremeCases, GeneratedSpheres) {
   Check(packing, {"DDEM nu_p 0.49 at 0.5 of the limit", 0.0, 0.49, 0.5});
 }
 
+// The DDEM step of case `c` (kn/(Ep l) at c.limit_fraction of the packing's limit) three
+// ways: the pencil with exact Lanczos, the inner solves with exact Lanczos, and the pencil
+// certified (exact_dimension 0).
+struct PencilRuns {
+  StabilitySummary pencil, inner, certified;
+};
+
+template <int Dim>
+PencilRuns RunPencilAndInnerSolves(const Packing<Dim>& packing, const Case& c,
+                                   double inner_tolerance) {
+  const StabilitySummary rigid =
+      AnalyseStability<Dim>(packing, SceneOf<Dim>(c, 0.0), StabilityOptions());
+  const SceneOptions<Dim> scene =
+      SceneOf<Dim>(c, rigid.convergence_eigenvalue.ritz_value / c.limit_fraction);
+  PencilRuns runs;
+  StabilityOptions options;
+  options.lanczos.exact_dimension = 2000;
+  runs.pencil = AnalyseStability<Dim>(packing, scene, options);
+  options.ddem_inner_solves = true;
+  options.inner_tolerance = inner_tolerance;
+  runs.inner = AnalyseStability<Dim>(packing, scene, options);
+  StabilityOptions certified;
+  certified.lanczos.exact_dimension = 0;
+  runs.certified = AnalyseStability<Dim>(packing, scene, certified);
+  EXPECT_TRUE(runs.pencil.ddem_time_step_available);
+  EXPECT_FALSE(runs.pencil.ddem_time_step_inner_solves);
+  EXPECT_TRUE(runs.inner.ddem_time_step_inner_solves);
+  EXPECT_TRUE(runs.pencil.ddem_eigenvalue.exact);
+  EXPECT_FALSE(runs.certified.ddem_time_step_inner_solves);
+  return runs;
+}
+
 // kt = 0, no dashpots: the pencil (no inner solves) and the inner-solve operator give the
 // same DDEM step. Exact Lanczos (small systems): the Ritz values agree to 1e-6 (the inner
 // solves to 1e-12); certified (exact_dimension 0, a few hundred unknowns): both on the safe
@@ -163,36 +195,20 @@ TEST(StabilityExtremeCases, GeneratedSpheres) {
 template <int Dim>
 void CheckPencil(const Packing<Dim>& packing, double limit_fraction, double nu_p) {
   SCOPED_TRACE(std::to_string(Dim) + "D, " + std::to_string(limit_fraction) + " of the limit");
-  Case c{"pencil", 0.0, nu_p, limit_fraction};
-  const StabilitySummary rigid =
-      AnalyseStability<Dim>(packing, SceneOf<Dim>(c, 0.0), StabilityOptions());
-  const SceneOptions<Dim> scene =
-      SceneOf<Dim>(c, rigid.convergence_eigenvalue.ritz_value / limit_fraction);
-  StabilityOptions options;
-  options.lanczos.exact_dimension = 2000;
-  const StabilitySummary pencil = AnalyseStability<Dim>(packing, scene, options);
-  options.ddem_inner_solves = true;
-  options.inner_tolerance = 1e-12;
-  const StabilitySummary inner = AnalyseStability<Dim>(packing, scene, options);
-  ASSERT_TRUE(pencil.ddem_time_step_available);
-  EXPECT_FALSE(pencil.ddem_time_step_inner_solves);
-  EXPECT_TRUE(inner.ddem_time_step_inner_solves);
-  EXPECT_TRUE(pencil.ddem_eigenvalue.exact);
-  const double exact = inner.ddem_time_step_ritz_s;
-  EXPECT_NEAR(pencil.ddem_time_step_ritz_s, exact, 1e-6 * exact);
-  EXPECT_NEAR(pencil.ddem_critical_time_step_s, inner.ddem_critical_time_step_s, 1e-6 * exact);
-  EXPECT_GT(pencil.ddem_reduction_percent, 1.0);
-  // Certified (no exact shortcut).
-  StabilityOptions certified;
-  certified.lanczos.exact_dimension = 0;
-  const StabilitySummary bound = AnalyseStability<Dim>(packing, scene, certified);
-  EXPECT_FALSE(bound.ddem_time_step_inner_solves);
+  const PencilRuns runs = RunPencilAndInnerSolves<Dim>(
+      packing, Case{"pencil", 0.0, nu_p, limit_fraction}, 1e-12);
+  const double exact = runs.inner.ddem_time_step_ritz_s;
+  EXPECT_NEAR(runs.pencil.ddem_time_step_ritz_s, exact, 1e-6 * exact);
+  EXPECT_NEAR(runs.pencil.ddem_critical_time_step_s, runs.inner.ddem_critical_time_step_s,
+              1e-6 * exact);
+  EXPECT_GT(runs.pencil.ddem_reduction_percent, 1.0);
+  const StabilitySummary& bound = runs.certified;
   EXPECT_LE(bound.ddem_critical_time_step_s, exact);
   EXPECT_GE(bound.ddem_critical_time_step_s,
-            exact / std::sqrt(1.0 + 2.0 * certified.ddem_relative_tolerance));
+            exact / std::sqrt(1.0 + 2.0 * StabilityOptions().ddem_relative_tolerance));
   EXPECT_NEAR(bound.ddem_time_step_ritz_s, exact, 1e-3 * exact);
   std::printf("%dD pencil: dt %.8e s, inner solves %.8e s; certified %.6e s (%d steps)\n", Dim,
-              pencil.ddem_time_step_ritz_s, exact, bound.ddem_critical_time_step_s,
+              runs.pencil.ddem_time_step_ritz_s, exact, bound.ddem_critical_time_step_s,
               bound.ddem_eigenvalue.iterations);
 }
 
@@ -200,6 +216,36 @@ TEST(StabilityExtremeCases, PencilEqualsInnerSolves) {
   CheckPencil(Generated<2>(150, 1e-4), 0.5, 0.25);
   CheckPencil(Generated<2>(150, 1e-4), 0.95, 0.45);
   CheckPencil(Generated<3>(120, 1e-4), 0.9, 0.25);
+}
+
+// kt > 0, no dashpots: the pencil bounds the symmetric part H_s of the boundary operator by
+// H_u = H_s + A_t^T G^T P G A_t / 4 (stability_analysis.cpp), without inner solves. Exact
+// Lanczos on both: the pencil's step is never above the inner-solve one (the safe side) and
+// within 0.5 % of it; certified: on the safe side of it and within the tolerance.
+template <int Dim>
+void CheckTangentialPencil(const Packing<Dim>& packing, double kt_ratio, double limit_fraction) {
+  SCOPED_TRACE(std::to_string(Dim) + "D, kt/kn " + std::to_string(kt_ratio) + ", " +
+               std::to_string(limit_fraction) + " of the limit");
+  const PencilRuns runs = RunPencilAndInnerSolves<Dim>(
+      packing, Case{"tangential pencil", kt_ratio, 0.35, limit_fraction}, 1e-10);
+  const double exact = runs.inner.ddem_time_step_ritz_s;
+  EXPECT_LE(runs.pencil.ddem_time_step_ritz_s, exact * (1.0 + 1e-9));
+  EXPECT_GE(runs.pencil.ddem_time_step_ritz_s, exact * (1.0 - 0.005));
+  const StabilitySummary& bound = runs.certified;
+  EXPECT_LE(bound.ddem_critical_time_step_s, exact);
+  EXPECT_GE(bound.ddem_critical_time_step_s,
+            exact * (1.0 - 0.005) /
+                std::sqrt(1.0 + 2.0 * StabilityOptions().ddem_relative_tolerance));
+  std::printf("%dD tangential pencil: dt %.8e s, inner solves %.8e s (%.3f %% below); certified "
+              "%.6e s (%d steps)\n",
+              Dim, runs.pencil.ddem_time_step_ritz_s, exact,
+              100.0 * (1.0 - runs.pencil.ddem_time_step_ritz_s / exact),
+              bound.ddem_critical_time_step_s, bound.ddem_eigenvalue.iterations);
+}
+
+TEST(StabilityExtremeCases, TangentialPencilBoundsTheInnerSolves) {
+  CheckTangentialPencil(Generated<2>(80, 1e-4), 1.0, 0.5);
+  CheckTangentialPencil(Generated<3>(60, 1e-4), 1.25, 0.7);
 }
 
 // Walls 10 kn on every side of a small 2D packing, undamped: the wall contacts open and close

@@ -143,7 +143,8 @@ def main():
     parser.add_argument("--skip-grid", action="store_true")
     parser.add_argument("--skip-timing", action="store_true")
     parser.add_argument("--only", default="",
-                        help="grid rows whose case matches this regular expression (e.g. walls)")
+                        help="grid and timing rows whose case matches this regular expression "
+                             "(e.g. walls)")
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--baseline", default="",
                         help="another build directory, timed side by side with --build")
@@ -225,6 +226,9 @@ def main():
             ("3D 50k, DDEM kn/(Ep R)=0.3 nu_p=0.35, kt=0", big3,
              ["--kn", 7e10, "--density", 2000, "--Ep", "%g" % (7e10 / 0.3 / mean_radius_3d),
               "--nu-p", 0.35]),
+            ("3D 50k, DDEM kn/(Ep R)=0.3 nu_p=0.35, kt=kn/2, alpha=0.1", big3,
+             ["--kn", 7e10, "--kt", 3.5e10, "--density", 2000, "--Ep",
+              "%g" % (7e10 / 0.3 / mean_radius_3d), "--nu-p", 0.35, "--damping", 0.1]),
         ]
         print("\nload average before the timings: %.2f (%d cores), --threads %d" %
               (os.getloadavg()[0], os.cpu_count(), args.threads))
@@ -235,7 +239,7 @@ def main():
         print("\n| analysis | particles | links | median wall time [s] | CPU time [s] | "
               "of which DDEM step [s] |")
         print("|---|---|---|---|---|---|")
-        for label, packing, arguments in cases:
+        for label, packing, arguments in [c for c in cases if re.search(args.only, c[0])]:
             seconds, cpu, analyses = time_analysis(builds, packing, arguments, args.runs,
                                                    args.threads)
             ddem = [a["time_step"].get("ddem_eigenvalue", {}).get("seconds", 0.0)
