@@ -122,6 +122,7 @@ void LinearisedNetwork<Dim>::Build(const Packing<Dim>& packing, const SceneOptio
     link_kn_.push_back(normal_k);
     link_kt_.push_back(tangential_k);
     link_root_kn_.push_back(std::sqrt(normal_k));
+    link_root_kt_.push_back(std::sqrt(tangential_k));
   };
   std::vector<int> links_of(count, 0);
   for (const auto& [i, j] : pairs) {
@@ -620,6 +621,7 @@ void LinearisedNetwork<Dim>::ApplyTangentialPencilOperator(
   const Vector<Dim>* const normals = link_normal_.data();
   const double* const root_kn = link_root_kn_.data();
   const double* const kt = link_kt_.data();
+  const double* const root_kt = link_root_kt_.data();
   const double* const radius = radius_.data();
   const double* const volume = volume_.data();
   const double* const inverse_root = dof_inverse_root_mass_.data();
@@ -668,7 +670,7 @@ void LinearisedNetwork<Dim>::ApplyTangentialPencilOperator(
     shift_term[c] = root_kn[c] * normal_part;
     Vector<Dim> slip = Eigen::Map<const Vector<Dim>>(vt + Dim * c);
     slip -= slip.dot(n) * n;
-    force_t[c] = std::sqrt(kt[c]) * slip + (0.5 * kt[c]) * (m - normal_part * n);
+    force_t[c] = root_kt[c] * slip + (0.5 * kt[c]) * (m - normal_part * n);
   }
   // 3. Particles: the motions M^-1 C^T f (GatherLinkForces, then the M^-1/2 of
   //    LinkKinematics); prescribed axes do not move.
@@ -719,7 +721,7 @@ void LinearisedNetwork<Dim>::ApplyTangentialPencilOperator(
     const Vector<Dim> slip = d - g * n;
     elongation[c] = g;
     force_t[c] = kt[c] * slip;
-    Eigen::Map<Vector<Dim>>(y.data() + links + Dim * c) = std::sqrt(kt[c]) * slip;
+    Eigen::Map<Vector<Dim>>(y.data() + links + Dim * c) = root_kt[c] * slip;
   }
   // 5. Particles: the strain of the tangential forces K_t d_t.
 #pragma omp parallel for if (count >= kParallelItems) num_threads(num_threads_) schedule(static)

@@ -184,7 +184,7 @@ class LinearisedNetwork {
   // Links: end i (particle), end j (particle >= 0, ground -1, force-driven wall node -2 - w).
   std::vector<int> link_i_, link_j_;
   std::vector<Vector<Dim>> link_normal_;
-  std::vector<double> link_kn_, link_kt_, link_root_kn_, link_cn_, link_ct_;
+  std::vector<double> link_kn_, link_kt_, link_root_kn_, link_root_kt_, link_cn_, link_ct_;
   // Particle -> link adjacency: entries 2 link + side (0: the particle is i, 1: it is j).
   std::vector<int> adjacency_offset_, adjacency_entry_;
   // Work arrays of the Apply methods, kept between calls: large vectors allocated afresh at
