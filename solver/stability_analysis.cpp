@@ -617,9 +617,10 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
     // one; a tenfold allowance.
     const double inexact_margin =
         10.0 * options.inner_tolerance / std::max(1e-3, 1.0 - s.spectral_radius);
-    // No dashpots: the pencil, without inner solves. Normal springs: DDEM only stiffens,
-    // lambda_max(H) >= the DEM value; with tangential springs the coupling G can soften the
-    // top mode (benchmark: up to 0.4 %), so Newton starts from 0 there.
+    // No dashpots: the pencil, without inner solves, Newton from the DEM value. Normal
+    // springs: DDEM only stiffens, lambda_max(H) >= the DEM value, a lower bound; with
+    // tangential springs the coupling G can soften the top mode (benchmark: up to 0.4 %), so
+    // Newton may go below it there (lower bound 0).
     std::optional<BoundaryResult<Dim>> pencil;
     if (!network.has_dashpots() && !options.ddem_inner_solves)
       pencil = PencilCriticalStep<Dim>(network, compliance, options, lanczos,
