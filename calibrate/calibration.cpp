@@ -124,6 +124,8 @@ nlohmann::json ProtocolJson(const LabTestOptions& t) {
           {"strain_boundary_margin", t.strain_boundary_margin}};
   // Only when used, so that maps stored before inertia scaling existed keep their key.
   if (t.mass_scaling_budget > 0.0) j["mass_scaling_budget"] = t.mass_scaling_budget;
+  if (t.time_step_safety_factor != LabTestOptions().time_step_safety_factor)
+    j["time_step_safety_factor"] = t.time_step_safety_factor;
   return j;
 }
 

@@ -43,6 +43,7 @@ void WriteScene(std::ostream& out, const std::string& packing_file, const Materi
   out << "local_damping = " << Exact(test.local_damping) << "\n";
   out << "dashpot_ratio = " << Exact(test.dashpot_ratio) << "\n";
   out << "mass_scaling = " << Exact(test.mass_scaling_budget) << "\n";
+  out << "safety_factor = " << Exact(test.time_step_safety_factor) << "\n";
   out << "pause_kinetic_energy_ratio = " << Exact(test.pause_kinetic_energy_ratio) << "\n";
   out << "platen_stiffness_ratio = " << Exact(test.platen_stiffness_ratio) << "\n";
   out << "platen_friction = " << Exact(test.platen_friction) << "\n\n";

@@ -191,6 +191,7 @@ SceneOptions<Dim> LabRun<Dim>::BuildScene() {
   SceneOptions<Dim> scene;
   scene.material = material_;
   scene.num_threads = options_.num_threads;
+  scene.time_step.safety_factor = options_.time_step_safety_factor;
   const LabTestKind kind = options_.kind;
   if (kind == LabTestKind::kPureShear) {
     // Madan section 4.5: boundary particles on the simple-shear field, rotations free.

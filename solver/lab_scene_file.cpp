@@ -225,6 +225,7 @@ void ReadTest(const toml::table* table, const std::string& source, LabScene* sce
   t.Number("local_damping", &o.local_damping);
   t.Number("dashpot_ratio", &o.dashpot_ratio);
   t.Number("mass_scaling", &o.mass_scaling_budget);
+  t.Number("safety_factor", &o.time_step_safety_factor);
   t.Boolean("quasi_static_check", &o.check_quasi_static);
   t.Number("quasi_static_tolerance", &o.quasi_static_tolerance);
   t.Finish();

@@ -108,6 +108,8 @@ bool LabTestOptions::IsValid(std::string* error) const {
     return fail("dashpot_ratio", dashpot_ratio, ">= 0");
   if (!(mass_scaling_budget >= 0.0 && mass_scaling_budget <= 0.05))
     return fail("mass_scaling_budget", mass_scaling_budget, "in [0, 0.05]");
+  if (!(time_step_safety_factor > 0.0 && time_step_safety_factor <= 0.95))
+    return fail("time_step_safety_factor", time_step_safety_factor, "in (0, 0.95]");
   if (!(quasi_static_tolerance > 0.0) || !finite(quasi_static_tolerance))
     return fail("quasi_static_tolerance", quasi_static_tolerance, "> 0");
   if (num_threads < 1) return fail("num_threads", num_threads, ">= 1");

@@ -230,6 +230,11 @@ struct LabTestOptions {
   // mass_scaling_budget, replaces the material's field): the share of the total mass that
   // may be added to them, in [0, 0.05]; 0 = true masses. Header comment "Inertia scaling".
   double mass_scaling_budget = 0.01;
+  // Time step as this fraction of the certified critical step of the stability analysis
+  // (TimeStepOptions::safety_factor), in (0, 0.95]. The certificate covers the bonded
+  // network as generated; the margin below 1 is for what it does not: contacts that close
+  // during the test (after breakage, post-peak) and the geometry's change under load.
+  double time_step_safety_factor = 0.7;
 
   // --- Checks and outputs ---
   // Repeat the test at half the rate and flag whether E or the peak change by more than

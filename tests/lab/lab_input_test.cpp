@@ -95,6 +95,15 @@ TEST_F(LabBadInput, ModulusWindowOutsideZeroOne) {
   }
 }
 
+TEST_F(LabBadInput, TimeStepSafetyFactorOutsideItsRange) {
+  for (const double factor : {0.0, -0.5, 0.96, 1.0}) {
+    SCOPED_TRACE(factor);
+    LabTestOptions options;
+    options.time_step_safety_factor = factor;
+    ExpectRefused(*packing_, options, {"time_step_safety_factor", "(0, 0.95]"});
+  }
+}
+
 // Unbreakable bonds: the UCS can never peak. It stops at the strain limit and says so.
 TEST_F(LabBadInput, NoPeakWithinTheStrainLimitIsReported) {
   LabTestOptions options;
