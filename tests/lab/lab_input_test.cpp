@@ -104,6 +104,18 @@ TEST_F(LabBadInput, TimeStepSafetyFactorOutsideItsRange) {
   }
 }
 
+// The option reaches the solver: the step is that share of the certified critical step.
+TEST_F(LabBadInput, TimeStepIsTheSafetyFactorOfTheCriticalStep) {
+  for (const double factor : {0.7, 0.5, 0.95}) {
+    SCOPED_TRACE(factor);
+    LabTestOptions options;
+    options.strain_limit = 2e-5;
+    options.time_step_safety_factor = factor;
+    const LabTestResult r = RunLabTest<2>(*packing_, Material(), options);
+    EXPECT_NEAR(r.time_step_s, factor * r.critical_time_step_s, 1e-12 * r.critical_time_step_s);
+  }
+}
+
 // Unbreakable bonds: the UCS can never peak. It stops at the strain limit and says so.
 TEST_F(LabBadInput, NoPeakWithinTheStrainLimitIsReported) {
   LabTestOptions options;
