@@ -9,6 +9,7 @@
 #include <future>
 #include <limits>
 #include <sstream>
+#include <optional>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -625,28 +626,53 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     const bool strength_ok = honoured == HonouredStrength::kCompressive
                                  ? std::abs(v.error_ucs) <= options.tolerance_ucs
                                  : std::abs(v.error_tensile) <= options.tolerance_tensile;
-    const bool tensile_ok = !summary.tensile_honoured || std::abs(v.error_tensile) <= options.tolerance_tensile;
-    summary.converged = std::abs(v.error_youngs) <= options.tolerance_youngs && poisson_ok && strength_ok && tensile_ok;
+    bool tensile_ok = !summary.tensile_honoured || std::abs(v.error_tensile) <= options.tolerance_tensile;
+    const bool others_ok = std::abs(v.error_youngs) <= options.tolerance_youngs && poisson_ok && strength_ok;
     summary.rounds.push_back(v);
+    // The corrections of the ratios (header comment, step 3), applied below when the loop
+    // goes on: nu by kt/kn (and kn/(Ep l)), sigma_c / sigma_t by Rt/Rn.
+    std::optional<PoissonCorrection> poisson_correction, ratio_correction;
+    if (!poisson_ok) {
+      std::vector<PoissonRound> history;
+      for (const VerificationRound& r : summary.rounds) history.push_back({r.ratios, r.poisson_ratio});
+      poisson_correction = CorrectPoisson(chosen.maps, history, target.poisson_ratio);
+    }
+    if (!tensile_ok) {
+      std::vector<StrengthRatioRound> history;
+      for (const VerificationRound& r : summary.rounds) history.push_back({r.ratios, r.ucs_pa / r.tensile_strength_pa});
+      ratio_correction = CorrectStrengthRatio(chosen.maps, poisson_correction ? poisson_correction->next : ratios,
+                                              history, target.StrengthRatio());
+      // Both strengths honoured, but Rt/Rn cannot move sigma_c / sigma_t towards the target
+      // (at the end of the maps' box, or not an input of the maps): the ratio is out of reach
+      // on this specimen, though the maps' specimens promised it. sigma_t is then reported,
+      // not corrected: rounds spent on it would change nothing.
+      if (ratio_correction->unremoved_share >= 0.99) {
+        summary.tensile_honoured = false;
+        tensile_ok = true;
+        std::ostringstream note;
+        note << "sigma_c / sigma_t = " << target.StrengthRatio() << " is not reachable on this specimen: round "
+             << round << " measured " << v.ucs_pa / v.tensile_strength_pa << " with Rt/Rn "
+             << v.ratios.shear_to_tensile_strength
+             << ", and the maps do not let Rt/Rn move further towards it (the end of their box, or not one of their inputs); "
+                "sigma_t is reported, no longer corrected ("
+             << Percent(v.error_tensile) << ")";
+        summary.notes.push_back(note.str());
+      }
+    }
+    summary.converged = others_ok && tensile_ok;
     if (summary.converged || round == options.max_verification_rounds) break;
 
     // Corrections (header comment, step 3).
     std::ostringstream what;
     MicroRatios next = ratios;
-    if (!poisson_ok) {
-      std::vector<PoissonRound> history;
-      for (const VerificationRound& r : summary.rounds) history.push_back({r.ratios, r.poisson_ratio});
-      const PoissonCorrection c = CorrectPoisson(chosen.maps, history, target.poisson_ratio);
-      next = c.next;
-      what << c.what;
+    if (poisson_correction) {
+      next = poisson_correction->next;
+      what << poisson_correction->what;
     }
     // Both strengths honoured: Rt/Rn holds sigma_c / sigma_t (Rn then follows the UCS).
     if (!tensile_ok) {
-      std::vector<StrengthRatioRound> history;
-      for (const VerificationRound& r : summary.rounds) history.push_back({r.ratios, r.ucs_pa / r.tensile_strength_pa});
-      const PoissonCorrection c = CorrectStrengthRatio(chosen.maps, next, history, target.StrengthRatio());
-      next = c.next;
-      what << c.what;
+      next = ratio_correction->next;
+      what << ratio_correction->what;
     }
     // How E/kn and strength/Rn change with the ratio change: from the last two rounds when
     // kt/kn moved between them (measured on this specimen), else from the maps.

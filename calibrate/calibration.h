@@ -22,7 +22,10 @@
 // 3. Verification: UCS and BTS on the real specimens (in parallel); while an error exceeds
 //    its tolerance and rounds remain, correct: kn by E* / E, Rn by the honoured strength
 //    (E ~ kn and strengths ~ Rn exactly at fixed ratios), kt/kn by the maps' slope of nu,
-//    each scaled by the maps' change of the group the ratio change causes. The first round's
+//    each scaled by the maps' change of the group the ratio change causes; when both
+//    strengths are honoured, Rt/Rn by sigma_c / sigma_t, and once Rt/Rn cannot move that
+//    ratio any more (the end of the maps' box), sigma_t is no longer honoured and the report
+//    says why (the small map specimens can promise a ratio the real one does not give). The first round's
 //    deviation from the maps' prediction is the transfer error of the smaller sweep specimens.
 //    E and nu are the secants over the window x the target UCS (the stresses at which the
 //    rock's were measured), not x the specimen's own, path-dependent peak (VerificationRound).

@@ -385,9 +385,10 @@ PoissonCorrection CorrectPoisson(const MapSet& maps, const std::vector<PoissonRo
   c.next = history.back().ratios;
   const double left = MoveLever(maps, measured, target_poisson, 1.0, MicroRatio::kStiffnessRatio,
                                 &MicroRatios::tangential_to_normal_stiffness, slope, &c);
+  c.unremoved_share = left;
   if (left > 0.5)
-    MoveLever(maps, measured, target_poisson, left, MicroRatio::kParticleCompliance,
-              &MicroRatios::normal_stiffness_to_particle, slope, &c);
+    c.unremoved_share = MoveLever(maps, measured, target_poisson, left, MicroRatio::kParticleCompliance,
+                                  &MicroRatios::normal_stiffness_to_particle, slope, &c);
   return c;
 }
 
@@ -406,8 +407,8 @@ PoissonCorrection CorrectStrengthRatio(const MapSet& maps, const MicroRatios& ne
   };
   PoissonCorrection c;
   c.next = next;
-  MoveLever(maps, measured, std::log(target_ratio), 1.0, MicroRatio::kStrengthRatio,
-            &MicroRatios::shear_to_tensile_strength, slope, &c);
+  c.unremoved_share = MoveLever(maps, measured, std::log(target_ratio), 1.0, MicroRatio::kStrengthRatio,
+                                &MicroRatios::shear_to_tensile_strength, slope, &c);
   return c;
 }
 

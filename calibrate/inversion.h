@@ -97,6 +97,9 @@ struct PoissonRound {
 struct PoissonCorrection {
   MicroRatios next;  // ratios for the next round (inside the maps' box)
   std::string what;  // e.g. "kt/kn 0.15 -> 0.15; kn/(Ep l) 0.0875 -> 0.21; "
+  // Share of the last round's error the levers could not remove, in [0, 1]: the box stopped
+  // them (or the maps have no such lever, or it does not act). 1: nothing moved.
+  double unremoved_share = 0.0;
 };
 // Moves kt/kn so that nu reaches the target; in DDEM maps, the share of the step the box does
 // not allow kt/kn goes to kn/(Ep l) (it raises nu, Madan 4.10; the box keeps rho(B) within its

@@ -214,6 +214,13 @@ TEST(CorrectStrengthRatio, MovesRtOverRnByTheMapsLogSlope) {
   EXPECT_LT(down.next.shear_to_tensile_strength, 4.0);
   const auto far = CorrectStrengthRatio(maps, Rigid(0.5, 9.0), {{Rigid(0.5, 9.0), 10.0}}, 30.0);
   EXPECT_NEAR(far.next.shear_to_tensile_strength, 10.0, 1e-9);
+  EXPECT_GT(far.unremoved_share, 0.5);
+  EXPECT_LT(far.unremoved_share, 1.0);
+  EXPECT_NEAR(c.unremoved_share, 0.0, 1e-9);
+  // At the end of the box, pushing further: nothing moves, the whole error stays.
+  const auto stuck = CorrectStrengthRatio(maps, Rigid(0.5, 10.0), {{Rigid(0.5, 10.0), 10.0}}, 30.0);
+  EXPECT_NEAR(stuck.next.shear_to_tensile_strength, 10.0, 1e-12);
+  EXPECT_NEAR(stuck.unremoved_share, 1.0, 1e-12);
 }
 
 TEST(CorrectStrengthRatio, UsesTheSecantAndLeavesMapsWithoutTheLever) {
@@ -227,6 +234,7 @@ TEST(CorrectStrengthRatio, UsesTheSecantAndLeavesMapsWithoutTheLever) {
   const auto fixed = CorrectStrengthRatio(DeformableMaps(), Ddem(0.5, 0.1), {{Ddem(0.5, 0.1), 9.0}}, 10.0);
   EXPECT_NEAR(fixed.next.shear_to_tensile_strength, 10.0, 1e-12);
   EXPECT_TRUE(fixed.what.empty());
+  EXPECT_NEAR(fixed.unremoved_share, 1.0, 1e-12);
 }
 
 }  // namespace
