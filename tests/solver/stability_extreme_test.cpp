@@ -165,11 +165,13 @@ struct PencilRuns {
 
 template <int Dim>
 PencilRuns RunPencilAndInnerSolves(const Packing<Dim>& packing, const Case& c,
-                                   double inner_tolerance) {
-  const StabilitySummary rigid =
-      AnalyseStability<Dim>(packing, SceneOf<Dim>(c, 0.0), StabilityOptions());
-  const SceneOptions<Dim> scene =
-      SceneOf<Dim>(c, rigid.convergence_eigenvalue.ritz_value / c.limit_fraction);
+                                   double inner_tolerance,
+                                   const std::vector<WallOptions<Dim>>& walls = {}) {
+  SceneOptions<Dim> rigid_scene = SceneOf<Dim>(c, 0.0);
+  rigid_scene.walls = walls;
+  const StabilitySummary rigid = AnalyseStability<Dim>(packing, rigid_scene, StabilityOptions());
+  SceneOptions<Dim> scene = SceneOf<Dim>(c, rigid.convergence_eigenvalue.ritz_value / c.limit_fraction);
+  scene.walls = walls;
   PencilRuns runs;
   StabilityOptions options;
   options.lanczos.exact_dimension = 2000;
@@ -223,11 +225,16 @@ TEST(StabilityExtremeCases, PencilEqualsInnerSolves) {
 // Lanczos on both: the pencil's step is never above the inner-solve one (the safe side) and
 // within 0.5 % of it; certified: on the safe side of it and within the tolerance.
 template <int Dim>
-void CheckTangentialPencil(const Packing<Dim>& packing, double kt_ratio, double limit_fraction) {
+void CheckTangentialPencil(const Packing<Dim>& packing, double kt_ratio, double limit_fraction,
+                           const std::vector<WallOptions<Dim>>& walls = {}) {
   SCOPED_TRACE(std::to_string(Dim) + "D, kt/kn " + std::to_string(kt_ratio) + ", " +
-               std::to_string(limit_fraction) + " of the limit");
+               std::to_string(limit_fraction) + " of the limit, " + std::to_string(walls.size()) +
+               " walls");
   const PencilRuns runs = RunPencilAndInnerSolves<Dim>(
-      packing, Case{"tangential pencil", kt_ratio, 0.35, limit_fraction}, 1e-10);
+      packing, Case{"tangential pencil", kt_ratio, 0.35, limit_fraction}, 1e-10, walls);
+  if (!walls.empty()) {
+    EXPECT_GT(runs.pencil.wall_links, 0);
+  }
   const double exact = runs.inner.ddem_time_step_ritz_s;
   EXPECT_LE(runs.pencil.ddem_time_step_ritz_s, exact * (1.0 + 1e-9));
   EXPECT_GE(runs.pencil.ddem_time_step_ritz_s, exact * (1.0 - 0.005));
@@ -246,6 +253,29 @@ void CheckTangentialPencil(const Packing<Dim>& packing, double kt_ratio, double 
 TEST(StabilityExtremeCases, TangentialPencilBoundsTheInnerSolves) {
   CheckTangentialPencil(Generated<2>(80, 1e-4), 1.0, 0.5);
   CheckTangentialPencil(Generated<3>(60, 1e-4), 1.25, 0.7);
+  // Walls 10 kn with friction: a fixed bottom (ground) and a force-driven top (a degree of
+  // freedom of its own), touching the particles within the bond tolerance. The top wall is
+  // light (a tenth of a mean particle), so that its motion is in the top mode.
+  const Packing<2> packing = Generated<2>(80, 1e-4);
+  double bottom = packing.centres[0].y() - packing.radii[0], top = packing.centres[0].y() + packing.radii[0];
+  double mass = 0.0;
+  for (int p = 0; p < packing.size(); ++p) {
+    bottom = std::min(bottom, packing.centres[p].y() - packing.radii[p]);
+    top = std::max(top, packing.centres[p].y() + packing.radii[p]);
+    mass += 2000.0 * 3.14159265358979 * packing.radii[p] * packing.radii[p];
+  }
+  std::vector<WallOptions<2>> walls(2);
+  for (int k = 0; k < 2; ++k) {
+    walls[k].name = k == 0 ? "bottom" : "top";
+    walls[k].normal = Vector<2>(0.0, k == 0 ? 1.0 : -1.0);
+    walls[k].point = Vector<2>(0.0, k == 0 ? bottom : top);
+    walls[k].normal_stiffness_n_per_m = 10 * kNormalStiffness;
+    walls[k].friction_coefficient = 0.5;
+    walls[k].tangential_stiffness_n_per_m = 5 * kNormalStiffness;
+  }
+  walls[1].drive = WallDrive::kForce;
+  walls[1].mass_kg = 0.1 * mass / packing.size();
+  CheckTangentialPencil(packing, 1.0, 0.5, walls);
 }
 
 // Walls 10 kn on every side of a small 2D packing, undamped: the wall contacts open and close
