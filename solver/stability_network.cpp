@@ -659,7 +659,7 @@ void LinearisedNetwork<Dim>::ApplyTangentialPencilOperator(
   }
   // 2. Links: its normal displacement N eps (for the shift: S v_n = K_n^1/2 N eps) and its
   //    tangential displacement T eps, giving f_t = K_t^1/2 v_t + K_t T eps / 2
-  //    (K_t^1/2 (v_t + G^T v_n / 2)); v_t's normal component is dropped.
+  //    (K_t^1/2 (v_t + G^T v_n / 2)); v_t's normal component is dropped. Stored: f_n n + f_t.
 #pragma omp parallel for if (links >= kParallelItems) num_threads(num_threads_) schedule(static)
   for (int c = 0; c < links; ++c) {
     const int i = link_i[c], j = link_j[c];
@@ -670,7 +670,8 @@ void LinearisedNetwork<Dim>::ApplyTangentialPencilOperator(
     shift_term[c] = root_kn[c] * normal_part;
     Vector<Dim> slip = Eigen::Map<const Vector<Dim>>(vt + Dim * c);
     slip -= slip.dot(n) * n;
-    force_t[c] = root_kt[c] * slip + (0.5 * kt[c]) * (m - normal_part * n);
+    // The whole link force f_n n + f_t, as pass 3 sums it.
+    force_t[c] = (root_kn[c] * vn[c]) * n + root_kt[c] * slip + (0.5 * kt[c]) * (m - normal_part * n);
   }
   // 3. Particles: the motions M^-1 C^T f (GatherLinkForces, then the M^-1/2 of
   //    LinkKinematics); prescribed axes do not move.
@@ -680,7 +681,7 @@ void LinearisedNetwork<Dim>::ApplyTangentialPencilOperator(
     Angular<Dim> moment = ZeroAngular<Dim>();
     for (int e = offset[p]; e < offset[p + 1]; ++e) {
       const int c = entry[e] >> 1;
-      const Vector<Dim> f = (root_kn[c] * vn[c]) * normals[c] + force_t[c];
+      const Vector<Dim>& f = force_t[c];
       if (entry[e] & 1)
         translation += f;
       else
@@ -704,8 +705,7 @@ void LinearisedNetwork<Dim>::ApplyTangentialPencilOperator(
       }
     }
   }
-  const std::vector<double> wall_motion = WallMotions(
-      [&](int c) { return Vector<Dim>((root_kn[c] * vn[c]) * normals[c] + force_t[c]); });
+  const std::vector<double> wall_motion = WallMotions([&](int c) { return force_t[c]; });
   // 4. Links: the relative displacement d of the contact points; a_t = K_t^1/2 d_t is the
   //    tangential block of y, K_t d_t the tangential force whose strain pass 5 needs.
 #pragma omp parallel for if (links >= kParallelItems) num_threads(num_threads_) schedule(static)
