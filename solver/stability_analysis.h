@@ -48,7 +48,7 @@
 //    lambda_max is the fixed point of lambda_max(A A^T + lambda S) = lambda (Newton, then
 //    certified). With tangential springs the symmetric part is bounded from above by an
 //    operator of the same form on (normal, tangential) link vectors (PencilCriticalStep in
-//    the .cpp: it drops a negative semi-definite term; 0.02-0.2 % lower steps than the
+//    the .cpp: it drops a negative semi-definite term; 0-0.2 % lower steps than the
 //    symmetric part in tests/solver/stability_extreme_test.cpp, 0.05 % on 50,000 spheres).
 //    With dashpots (I - L)^-1 is applied by conjugate gradients on I - S (inner solves).
 //    As rho(B) -> 1 the DDEM step falls to zero: the two limits interact (note 3.7 item 3).
