@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -128,6 +129,8 @@ void SaveStoredMaps(const StoredMaps& maps, const std::string& path) {
 }
 
 StoredMaps LoadStoredMaps(const std::string& path) {
+  if (std::filesystem::is_directory(path))
+    throw FileError("the map file " + path + " is a directory, not a file");
   std::ifstream in(path);
   if (!in) throw FileError("cannot read the map file " + path);
   nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);

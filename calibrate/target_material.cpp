@@ -94,6 +94,8 @@ TargetMaterial ParseTargetMaterial(const std::string& toml_text, const std::stri
                      "friction_angle"},
                     where);
   TargetMaterial material;
+  if (const toml::node* name = table->get("name"); name != nullptr && !name->is_string())
+    throw InputError(where + ": 'name' must be a string");
   material.name = (*table)["name"].value_or(std::string("unnamed material"));
   material.youngs_modulus_pa = *ReadNumber(*table, "youngs_modulus", where, true);
   material.poisson_ratio = *ReadNumber(*table, "poisson_ratio", where, true);
@@ -101,6 +103,9 @@ TargetMaterial ParseTargetMaterial(const std::string& toml_text, const std::stri
   material.tensile_strength_pa = *ReadNumber(*table, "tensile_strength", where, true);
   material.density_kg_per_m3 = *ReadNumber(*table, "density", where, true);
   material.friction_angle_deg = ReadNumber(*table, "friction_angle", where, false);
+  if (root.contains("confined") && !root["confined"].is_array())
+    throw InputError(source + ": 'confined' must be an array of tables [[confined]] with "
+                     "confinement and peak_stress");
   if (const toml::array* confined = root["confined"].as_array()) {
     for (size_t i = 0; i < confined->size(); ++i) {
       const toml::table* entry = (*confined)[i].as_table();

@@ -52,6 +52,8 @@ void RequireWritableDirectory(const std::string& directory, const std::string& w
   namespace fs = std::filesystem;
   const std::string dir = directory.empty() ? "." : directory;
   std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw FileError(what + ": '" + dir + "' exists and is not a directory");
   if (!fs::is_directory(dir, ec))
     throw FileError(what + ": directory '" + dir + "' does not exist");
   if (access(dir.c_str(), W_OK) != 0)
@@ -63,6 +65,8 @@ void EnsureDirectory(const std::string& directory, const std::string& what) {
   if (directory.empty()) return;
   std::error_code ec;
   fs::create_directories(directory, ec);
+  if (ec && !fs::is_directory(directory))
+    throw FileError(what + ": cannot create directory '" + directory + "': " + ec.message());
   RequireWritableDirectory(directory, what);
 }
 
@@ -84,6 +88,11 @@ const std::string& OutputGroup::TemporaryPath(const std::string& path) const {
 }
 
 std::vector<std::string> OutputGroup::Commit() {
+  // A destination that is a directory would make its rename fail after the others were in
+  // place: refuse before the first one, so that the group appears whole or not at all.
+  for (const auto& file : files_)
+    if (std::filesystem::is_directory(file.first))
+      throw FileError("cannot write '" + file.first + "': a directory of that name is in the way");
   std::vector<std::string> paths;
   for (const auto& file : files_) {
     if (std::rename(file.second.c_str(), file.first.c_str()) != 0)

@@ -42,11 +42,13 @@ PackingOutputsWritten WritePackingOutputs(const Packing<Dim>& packing,
   PackingOutputsWritten written;
   written.files = group.Commit();
 
-  if (options.pictures) {
-    const PicturesWritten pictures = WritePackingPictures<Dim>(packing, metrics, base);
-    written.files.insert(written.files.end(), pictures.files.begin(), pictures.files.end());
-    written.warnings = pictures.warnings;
-  }
+  // The CSV files behind the pictures are written in any case; --no-pictures only skips
+  // drawing them.
+  PackingPicturesOptions pictures_options;
+  pictures_options.draw = options.pictures;
+  const PicturesWritten pictures = WritePackingPictures<Dim>(packing, metrics, base, pictures_options);
+  written.files.insert(written.files.end(), pictures.files.begin(), pictures.files.end());
+  written.warnings = pictures.warnings;
   return written;
 }
 

@@ -23,7 +23,7 @@ namespace specimen {
 struct PackingOutputOptions {
   std::string directory = "out";
   std::string name = "packing";
-  bool pictures = true;
+  bool pictures = true;  // false: the CSV files only, no PNG
   double liggghts_density_kg_per_m3 = 2650.0;
 };
 

@@ -322,9 +322,10 @@ PicturesWritten WritePackingPictures(const Packing<Dim>& packing,
   RequireWritableDirectory(directory, "packing pictures");
 
   PicturesWritten written;
-  const bool gnuplot = GnuplotAvailable();
+  const bool gnuplot = options.draw && GnuplotAvailable();
   std::vector<std::string> skipped;  // pictures not drawn because gnuplot is missing
   auto render = [&](const std::string& script, const std::string& png, const PlotOptions& plot) {
+    if (!options.draw) return;
     if (!gnuplot) {
       skipped.push_back(png);
       return;

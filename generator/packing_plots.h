@@ -24,6 +24,9 @@ struct PackingPicturesOptions {
   // Bins of the radius histogram; 0 = automatic: ceil(sqrt(N)), at most 40. A packing of
   // equal radii gets one bin, [0.95 r, 1.05 r], so the bar has a width.
   int radius_bins = 0;
+  // Render the PNG files with gnuplot; false writes only the CSV files they are drawn from
+  // (generate-packing --no-pictures).
+  bool draw = true;
   // Contacts are drawn (and <prefix>_contacts.csv written) only for packings of fewer
   // particles than this: above it the lines are sub-pixel and slow to draw.
   int contact_drawing_limit = 5000;

@@ -231,7 +231,9 @@ LabOutputsWritten WriteLabOutputs(const LabTestResult& r, const Packing<Dim>& pa
   nlohmann::json summary = report.is_object() ? report : nlohmann::json::object();
   summary["version"] = kVersion;
   summary["result"] = r.ToJson();
-  const bool cracks = Dim == 2 && options.pictures && r.end_snapshot.recorded;
+  // The crack CSV files come with the end state (recorded for pictures or snapshots), with
+  // or without the picture drawn from them.
+  const bool cracks = Dim == 2 && r.end_snapshot.recorded;
 
   // 1. The data, renamed into place together.
   OutputGroup group;
@@ -286,7 +288,7 @@ LabOutputsWritten WriteLabOutputs(const LabTestResult& r, const Packing<Dim>& pa
           written.files.push_back(cracks_png);
         else
           written.warnings.push_back(error);
-      } else if (options.pictures) {
+      } else {
         written.warnings.push_back("no end snapshot recorded: the crack picture is skipped");
       }
     }

@@ -31,7 +31,7 @@ namespace specimen {
 struct LabOutputOptions {
   std::string directory = "out";
   std::string name = "test";
-  bool pictures = true;   // PNG pictures (and the CSV files they are drawn from)
+  bool pictures = true;   // PNG pictures (the CSV files they are drawn from are written anyway)
   bool snapshots = true;  // VTU snapshots (needs LabTestOptions::record_snapshots)
 };
 

@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include "common/error.h"
+#include "common/field_names.h"
 #include "generator/domain.h"
 #include "solver/lab_envelope.h"
 #include "solver/lab_specimen.h"
@@ -46,8 +47,9 @@ class TableReader {
   bool Boolean(const std::string& key, bool* value) {
     const toml::node* node = Get(key);
     if (!node) return false;
-    if (const auto v = node->value<bool>()) {
-      *value = *v;
+    // is_boolean: toml++'s value<bool>() would also take an integer (7 -> true).
+    if (node->is_boolean()) {
+      *value = *node->value<bool>();
       return true;
     }
     throw InputError(where_ + ": '" + key + "' must be true or false");
@@ -92,6 +94,28 @@ class TableReader {
   const toml::table* table_;
   std::string where_;
   std::set<std::string> read_;
+};
+
+// The fields of MaterialParameters and LabTestOptions as the scene keys that set them, for
+// the messages of their validation.
+const FieldNames kMaterialKeys = {
+    {"normal_stiffness_n_per_m", "normal_stiffness"},
+    {"tangential_stiffness_n_per_m", "tangential_stiffness"},
+    {"bond_tensile_strength_n", "bond_tensile_strength"},
+    {"bond_shear_strength_n", "bond_shear_strength"},
+    {"density_kg_per_m3", "density"},
+    {"particle_youngs_modulus_pa", "particle_youngs_modulus"},
+};
+const FieldNames kTestKeys = {
+    {"platen_speed_m_per_s", "platen_speed"},
+    {"post_peak_stress_fraction", "post_peak_fraction"},
+    {"modulus_window_low", "modulus_window[0]"},
+    {"modulus_window_high", "modulus_window[1]"},
+    {"sample_interval_steps", "sample_interval"},
+    {"num_threads", "threads"},
+    {"confining_stress_pa", "confining_stress"},
+    {"mass_scaling_budget", "mass_scaling"},
+    {"time_step_safety_factor", "safety_factor"},
 };
 
 int DimensionOfDomain(const std::string& text) {
@@ -162,7 +186,12 @@ void ReadMaterial(const toml::table* table, const std::string& source, MaterialP
   required("density", &m->density_kg_per_m3);
   double modulus = 0.0;
   if (t.Number("particle_youngs_modulus", &modulus)) m->particle_youngs_modulus_pa = modulus;
-  t.Number("particle_poisson_ratio", &m->particle_poisson_ratio);
+  // nu_p alone would silently run rigid particles: the user meant DDEM and forgot Ep.
+  if (t.Number("particle_poisson_ratio", &m->particle_poisson_ratio) &&
+      !m->particle_youngs_modulus_pa)
+    throw InputError(t.where() + ": 'particle_poisson_ratio' is given without "
+                     "'particle_youngs_modulus': give both for deformable particles (DDEM), "
+                     "neither for rigid ones");
   std::string plane;
   if (t.String("plane_model", &plane)) {
     if (plane == "plane_strain")
@@ -175,7 +204,7 @@ void ReadMaterial(const toml::table* table, const std::string& source, MaterialP
   }
   t.Finish();
   std::string error;
-  if (!m->IsValid(&error)) throw InputError(t.where() + ": " + error);
+  if (!m->IsValid(&error)) throw InputError(t.where() + ": " + InUserTerms(error, kMaterialKeys));
 }
 
 void ReadTest(const toml::table* table, const std::string& source, LabScene* scene) {
@@ -242,7 +271,7 @@ void ReadTest(const toml::table* table, const std::string& source, LabScene* sce
     }
   }
   std::string error;
-  if (!o.IsValid(&error)) throw InputError(t.where() + ": " + error);
+  if (!o.IsValid(&error)) throw InputError(t.where() + ": " + InUserTerms(error, kTestKeys));
 }
 
 void ReadOutput(const toml::table* table, const std::string& source, LabOutputOptions* output) {
@@ -286,6 +315,8 @@ LabScene ParseLabScene(const std::string& toml_text, const std::string& source) 
 }
 
 LabScene LoadLabScene(const std::string& path) {
+  if (std::filesystem::is_directory(path))
+    throw FileError("the scene '" + path + "' is a directory, not a file");
   std::ifstream in(path);
   if (!in) throw FileError("cannot read the scene file '" + path + "'");
   std::stringstream text;

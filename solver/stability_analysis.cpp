@@ -698,7 +698,8 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
     convergence.marginal = s.spectral_radius > options.max_spectral_radius;
     convergence.detail = "rho(B) = " + Number(s.spectral_radius, 5) +
                          " (required <= " + Number(options.max_spectral_radius, 4) +
-                         "; kn/(Ep l) = " + Number(s.kn_over_ep, 5) + ", admissible " +
+                         "; kn/(Ep " + (Dim == 2 ? "l" : "R") + ") = " + Number(s.kn_over_ep, 5) +
+                         ", admissible " +
                          Number(s.admissible_kn_over_ep, 5) + ")";
     s.spectral_radius_margin_percent = 100.0 * convergence.margin;
     limits.push_back(convergence);

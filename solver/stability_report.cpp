@@ -60,7 +60,8 @@ std::string StabilitySummary::BriefReport() const {
                           critical_time_step_s, recommended_time_step_s);
   if (deformable)
     line +=
-        Line(", rho(B) %.5f, admissible kn/(Ep l) %.5g", spectral_radius, admissible_kn_over_ep);
+        Line(", rho(B) %.5f, admissible kn/(Ep %s) %.5g", spectral_radius,
+             dimension == 2 ? "l" : "R", admissible_kn_over_ep);
   return line + ", " + verdict + " (" + binding_limit + ", margin " + Line("%.3g", margin_percent) +
          " %)";
 }
@@ -129,15 +130,17 @@ std::string StabilitySummary::FullReport() const {
       "%.6g Pa for kn = %.6g N/m\n",
       length, admissible_kn_over_ep, max_spectral_radius, recommended_kn_over_ep,
       smallest_youngs_modulus_pa, normal_stiffness_n_per_m);
-  out << Line("  lattice limits at nu_p = %.4g: row %.4f, SC %.4f, HCP %.4f\n",
-              particle_poisson_ratio, lattice.row, lattice.square, lattice.hexagonal);
+  // HCP is a 2D lattice (stability_closed_forms.h): no value in 3D.
+  auto hcp = [](double value) { return std::isnan(value) ? std::string("-") : Line("%.4f", value); };
+  out << Line("  lattice limits at nu_p = %.4g: row %.4f, SC %.4f, HCP %s\n",
+              particle_poisson_ratio, lattice.row, lattice.square, hcp(lattice.hexagonal).c_str());
   if (!sweep.empty()) {
     out << Line("\n  nu_p     admissible  recommended  row      SC       HCP   (kn/(Ep %s))\n",
                 length);
     for (const SweepRow& r : sweep)
-      out << Line("  %-7.4g  %-10.5g  %-11.5g  %-7.4f  %-7.4f  %-7.4f\n", r.poisson_ratio,
+      out << Line("  %-7.4g  %-10.5g  %-11.5g  %-7.4f  %-7.4f  %-7s\n", r.poisson_ratio,
                   r.admissible_kn_over_ep, r.recommended_kn_over_ep, r.lattice.row,
-                  r.lattice.square, r.lattice.hexagonal);
+                  r.lattice.square, hcp(r.lattice.hexagonal).c_str());
     out << Line(
         "  largest: kn/(Ep %s) %.5g at nu_p = %.4g (%.5g at rho(B) = %.4g): the softest "
         "particles this packing allows\n",

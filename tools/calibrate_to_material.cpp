@@ -11,11 +11,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "calibrate/calibration.h"
 #include "calibrate/calibration_outputs.h"
+#include "calibrate/map_store.h"
 #include "calibrate/target_material.h"
 #include "common/progress.h"
 #include "generator/packing_io.h"
@@ -31,11 +34,11 @@ struct CommandLine {
   std::string model = "auto";
   std::string packing, bts_packing;
   std::string ucs_domain;
-  int count = 0;
+  std::optional<int> count;  // given: applied as given (0 is rejected, not the default)
   double sweep_fraction = 0.3;
-  std::uint64_t seed = 1;
+  long long seed = 1;
   double radius_ratio = 10.0;
-  std::string maps_directory = "data/maps";
+  std::optional<std::string> maps_directory;  // default: DefaultMapsDirectory()
   std::string maps_file;
   bool no_reuse = false;
   int workers = 0;
@@ -43,14 +46,49 @@ struct CommandLine {
   double max_spectral_radius = 0.9;
   double particle_poisson_ratio = 0.45;
   double friction = 0.8;
-  double rate_group = 0.0;
-  int sweep_levels = 0;
+  std::optional<double> rate_group;
+  std::optional<int> sweep_levels;
   std::string honour = "compressive";
   std::string output = "out/calibration";
   std::string name = "calibration";
   bool no_pictures = false;
   bool quiet = false;
 };
+
+// The fields of CalibrationOptions and SpecimenPlan as the options that set them.
+const FieldNames kOptionNames = {
+    {"max_verification_rounds", "--rounds"},
+    {"max_spectral_radius", "--max-spectral-radius"},
+    {"particle_poisson_ratio", "--nu-p"},
+    {"friction_coefficient", "--friction"},
+    {"loading_rate_group", "--rate-group"},
+    {"sweep_levels", "--sweep-levels"},
+    {"workers", "--workers"},
+    {"ucs_particles", "--count"},
+    {"radius_ratio", "--radius-ratio"},
+};
+
+// data/maps of the working directory when there is one (a run from the repository), else
+// the source tree's, so that the shipped maps are found from anywhere.
+std::string DefaultMapsDirectory() {
+  if (std::filesystem::is_directory("data/maps")) return "data/maps";
+#ifdef SPECIMEN_DATA_DIR
+  if (std::filesystem::is_directory(SPECIMEN_DATA_DIR "/maps")) return SPECIMEN_DATA_DIR "/maps";
+#endif
+  return "data/maps";
+}
+
+// The map file and directory are checked before any specimen is generated.
+void CheckMapLocations(const std::string& file, const std::string& directory) {
+  namespace fs = std::filesystem;
+  if (!file.empty()) {
+    if (!fs::exists(file)) throw FileError("--maps: the map file '" + file + "' does not exist");
+    if (!fs::is_regular_file(file)) throw FileError("--maps: '" + file + "' is not a regular file");
+    LoadStoredMaps(file);  // unreadable or not a map: fails now, not after the specimens
+  }
+  if (fs::exists(directory) && !fs::is_directory(directory))
+    throw FileError("--maps-dir: '" + directory + "' exists and is not a directory");
+}
 
 template <int Dim>
 int Run(const TargetMaterial& target, CalibrationOptions options, const CommandLine& cl) {
@@ -74,9 +112,9 @@ int Run(const TargetMaterial& target, CalibrationOptions options, const CommandL
     }
     SpecimenPlan<Dim> plan;
     plan.ucs_domain = cl.ucs_domain;
-    plan.ucs_particles = cl.count;
+    plan.ucs_particles = cl.count.value_or(0);
     plan.sweep_fraction = cl.sweep_fraction;
-    plan.seed = cl.seed;
+    plan.seed = static_cast<std::uint64_t>(cl.seed);
     plan.radius_ratio = cl.radius_ratio;
     plan.progress = options.progress;
     return MakeCalibrationSpecimens<Dim>(plan);
@@ -116,9 +154,10 @@ int main(int argc, char** argv) {
   app.add_option("--count", cl.count, "particles of the UCS specimen, default 5000 (2D), 20000 (3D)");
   app.add_option("--sweep-fraction", cl.sweep_fraction,
                  "share of the particles of the map specimens, in (0, 1], default 0.3");
-  app.add_option("--seed", cl.seed, "generator seed, default 1");
+  app.add_option("--seed", cl.seed, "generator seed, >= 0, default 1");
   app.add_option("--radius-ratio", cl.radius_ratio, "bound on r_max / r_min, default 10");
-  app.add_option("--maps-dir", cl.maps_directory, "where maps are stored and reused, default data/maps");
+  app.add_option("--maps-dir", cl.maps_directory, "where maps are stored and reused, default data/maps (of the working directory, else "
+                 "of the source tree: the shipped maps)");
   app.add_option("--maps", cl.maps_file, "use this map file (must have been built for an equivalent packing)");
   app.add_flag("--no-reuse", cl.no_reuse, "build the maps again even if stored ones match");
   app.add_option("--workers", cl.workers, "sweep points run at once, default: hardware threads");
@@ -137,7 +176,7 @@ int main(int argc, char** argv) {
   app.add_option("--name", cl.name, "file name prefix, default calibration");
   app.add_flag("--no-pictures", cl.no_pictures, "no PNG pictures (the CSV files are written)");
   app.add_flag("--quiet", cl.quiet, "no progress display");
-  CLI11_PARSE(app, argc, argv);
+  if (int status = 0; !ParseCommandLine(app, argc, argv, &status)) return status;
   return RunCommand("calibrate-to-material", [&] {
     if (cl.dimension != 2 && cl.dimension != 3)
       throw InputError("--dimension = " + std::to_string(cl.dimension) + ", allowed 2 or 3");
@@ -148,7 +187,7 @@ int main(int argc, char** argv) {
     if (cl.honour != "compressive" && cl.honour != "tensile")
       throw InputError("--honour = '" + cl.honour + "', allowed compressive or tensile");
     options.honour = cl.honour == "tensile" ? HonouredStrength::kTensile : HonouredStrength::kCompressive;
-    options.maps_directory = cl.maps_directory;
+    options.maps_directory = cl.maps_directory.value_or(DefaultMapsDirectory());
     options.maps_file = cl.maps_file;
     options.reuse_maps = !cl.no_reuse;
     options.workers = cl.workers;
@@ -156,17 +195,20 @@ int main(int argc, char** argv) {
     options.max_spectral_radius = cl.max_spectral_radius;
     options.particle_poisson_ratio = cl.particle_poisson_ratio;
     options.friction_coefficient = cl.friction;
-    if (cl.rate_group != 0.0) options.test.loading_rate_group = cl.rate_group;
-    if (cl.sweep_levels != 0) {
-      if (cl.sweep_levels < 3 || cl.sweep_levels > 12)
-        throw InputError("--sweep-levels = " + std::to_string(cl.sweep_levels) + ", allowed 3 to 12");
-      options.sweep_levels = cl.sweep_levels;
+    if (cl.rate_group) options.test.loading_rate_group = *cl.rate_group;
+    if (cl.sweep_levels) {
+      if (*cl.sweep_levels < 3 || *cl.sweep_levels > 12)
+        throw InputError("--sweep-levels = " + std::to_string(*cl.sweep_levels) + ", allowed 3 to 12");
+      options.sweep_levels = *cl.sweep_levels;
     }
     std::string error;
     if (!options.IsValid(&error)) throw InputError(error);
     if (!(cl.sweep_fraction > 0.0 && cl.sweep_fraction <= 1.0))
       throw InputError("--sweep-fraction = " + std::to_string(cl.sweep_fraction) + ", allowed (0, 1]");
-    if (cl.count < 0) throw InputError("--count = " + std::to_string(cl.count) + ", allowed > 0");
+    if (cl.count && *cl.count < 1)
+      throw InputError("--count = " + std::to_string(*cl.count) + ", allowed >= 1");
+    if (cl.seed < 0) throw InputError("--seed = " + std::to_string(cl.seed) + ", allowed >= 0");
+    CheckMapLocations(options.maps_file, options.maps_directory);
     return cl.dimension == 2 ? Run<2>(target, options, cl) : Run<3>(target, options, cl);
-  });
+  }, kOptionNames);
 }

@@ -2,12 +2,14 @@
 // Shared plumbing of the command-line programs: turning the library's typed errors into a
 // message and an exit status, and small parsing helpers. No physics here.
 
+#include <CLI/CLI.hpp>
 #include <exception>
 #include <functional>
 #include <iostream>
 #include <string>
 
 #include "common/error.h"
+#include "common/field_names.h"
 
 namespace specimen {
 
@@ -20,12 +22,28 @@ enum ExitStatus : int {
   kExitComputation = 4,    // diverged or did not converge within its budget
 };
 
-// Runs `body`, printing "<program>: error: <message>" on stderr for any exception.
-inline int RunCommand(const std::string& program, const std::function<int()>& body) {
+// Parses the command line. False when the program must stop here, with *status set: 0 after
+// --help or --version, kExitBadInput for an unknown option, a missing required one, a value
+// CLI11 cannot convert or a conflict (CLI11 prints its message; its own exit codes, 100 and
+// up, would break the "2 = bad input" contract of every command).
+inline bool ParseCommandLine(CLI::App& app, int argc, char** argv, int* status) {
+  try {
+    app.parse(argc, argv);
+    return true;
+  } catch (const CLI::ParseError& e) {
+    *status = app.exit(e) == 0 ? kExitOk : kExitBadInput;
+    return false;
+  }
+}
+
+// Runs `body`, printing "<program>: error: <message>" on stderr for any exception. The
+// messages of bad input name the fields in the user's terms (`names`).
+inline int RunCommand(const std::string& program, const std::function<int()>& body,
+                      const FieldNames& names = {}) {
   try {
     return body();
   } catch (const InputError& e) {
-    std::cerr << program << ": error: " << e.what() << "\n";
+    std::cerr << program << ": error: " << InUserTerms(e.what(), names) << "\n";
     return kExitBadInput;
   } catch (const FileError& e) {
     std::cerr << program << ": error: " << e.what() << "\n";

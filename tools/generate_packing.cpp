@@ -17,6 +17,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "common/progress.h"
@@ -29,24 +30,42 @@
 namespace specimen {
 namespace {
 
+// An option left out keeps the dimension's default (DefaultGeneratorOptions); one given is
+// applied as given, so that a bad value is rejected by the validation, not replaced.
 struct CommandLine {
   std::string domain;
-  double mean_radius = 0.0;
-  int count = 0;
-  double radius_ratio = -1.0;
-  double node_spread = -1.0;
+  std::optional<double> mean_radius;
+  std::optional<int> count;
+  std::optional<double> radius_ratio;
+  std::optional<double> node_spread;
   std::vector<double> radius_factor;
-  double contact_tolerance = -1.0;
-  int max_rounds = -1;
-  std::uint64_t seed = 1;
+  std::optional<double> contact_tolerance;
+  std::optional<double> overlap_tolerance;
+  std::optional<int> max_rounds;
+  long long seed = 1;
   int threads = 2;
   PackingOutputOptions output;
   bool quiet = false;
   bool trace = false;
   bool keep_overlaps = false;
   std::string compaction;  // "on" | "off" | empty: the dimension's default
-  double compaction_exponent = -1.0;
-  int compaction_rounds = -1;
+  std::optional<double> compaction_exponent;
+  std::optional<int> compaction_rounds;
+};
+
+// The fields of GeneratorOptions as the options that set them, for the messages.
+const FieldNames kOptionNames = {
+    {"mean_radius", "--mean-radius"},
+    {"particle_count", "--count"},
+    {"radius_ratio", "--radius-ratio"},
+    {"node_size_spread", "--node-spread"},
+    {"initial radius factor range", "--radius-factor range"},
+    {"contact_tolerance", "--contact-tolerance"},
+    {"overlap_tolerance", "--overlap-tolerance"},
+    {"max_rounds", "--max-rounds"},
+    {"num_threads", "--threads"},
+    {"compaction_exponent", "--compaction-exponent"},
+    {"compaction_rounds", "--compaction-rounds"},
 };
 
 // Dimension of a domain from its first word.
@@ -65,27 +84,35 @@ int Run(const CommandLine& cl) {
   // 1. Options: the dimension's defaults, overridden by what was given.
   const Domain<Dim> domain = Domain<Dim>::Parse(cl.domain);
   GeneratorOptions options = DefaultGeneratorOptions<Dim>();
-  options.mean_radius = cl.mean_radius;
-  options.particle_count = cl.count;
-  if (cl.radius_ratio > 0) options.radius_ratio = cl.radius_ratio;
-  if (cl.node_spread > 0) options.node_size_spread = cl.node_spread;
-  if (cl.radius_ratio > 0 && cl.node_spread <= 0)
+  options.mean_radius = cl.mean_radius.value_or(0.0);
+  options.particle_count = cl.count.value_or(0);
+  if (cl.mean_radius && !(*cl.mean_radius > 0.0))
+    throw InputError("--mean-radius = " + std::to_string(*cl.mean_radius) +
+                     " is not allowed: it must be > 0");
+  if (cl.count && *cl.count < 1)
+    throw InputError("--count = " + std::to_string(*cl.count) + " is not allowed: it must be >= 1");
+  if (cl.radius_ratio) options.radius_ratio = *cl.radius_ratio;
+  if (cl.node_spread) options.node_size_spread = *cl.node_spread;
+  if (cl.radius_ratio && !cl.node_spread && *cl.radius_ratio >= 1.0)
     options.node_size_spread = std::min(options.node_size_spread, options.radius_ratio);
   if (cl.radius_factor.size() == 2) {
     options.initial_radius_factor_min = cl.radius_factor[0];
     options.initial_radius_factor_max = cl.radius_factor[1];
   }
-  if (cl.contact_tolerance > 0) options.contact_tolerance = cl.contact_tolerance;
-  if (cl.max_rounds > 0) options.max_rounds = cl.max_rounds;
-  options.seed = cl.seed;
+  if (cl.contact_tolerance) options.contact_tolerance = *cl.contact_tolerance;
+  if (cl.overlap_tolerance) options.overlap_tolerance = *cl.overlap_tolerance;
+  if (cl.max_rounds) options.max_rounds = *cl.max_rounds;
+  if (cl.seed < 0)
+    throw InputError("--seed = " + std::to_string(cl.seed) + " is not allowed: it must be >= 0");
+  options.seed = static_cast<std::uint64_t>(cl.seed);
   options.num_threads = cl.threads;
   options.record_trace = cl.trace;
   if (!cl.compaction.empty() && cl.compaction != "on" && cl.compaction != "off")
     throw InputError("--compaction = '" + cl.compaction + "' is not allowed: use on or off");
   if (!cl.compaction.empty()) options.compaction = cl.compaction == "on";
-  if (cl.compaction_exponent >= 0.0) options.compaction_exponent = cl.compaction_exponent;
+  if (cl.compaction_exponent) options.compaction_exponent = *cl.compaction_exponent;
   options.keep_small_overlaps = cl.keep_overlaps;
-  if (cl.compaction_rounds >= 0) options.compaction_rounds = cl.compaction_rounds;
+  if (cl.compaction_rounds) options.compaction_rounds = *cl.compaction_rounds;
   std::string error;
   if (!options.IsValid(&error)) throw InputError(error);
   // 2. Fail on an unusable output location now, not after the work.
@@ -141,15 +168,20 @@ int main(int argc, char** argv) {
   app.add_flag("--keep-overlaps", cl.keep_overlaps,
                "keep overlaps up to 0.5 % of the mean radius (about 0.2 points denser in 2D; "
                "the solver starts those bonds stress-free); default: exact contacts");
-  app.add_option("--max-rounds", cl.max_rounds, "outer rounds (triangulation + LM), in [1, 100]");
+  app.add_option("--overlap-tolerance", cl.overlap_tolerance,
+                 "largest overlap the densification may leave (relative to the mean radius), "
+                 "removed exactly at the end or kept with --keep-overlaps, in [0, 0.1]; default 0.005");
+  app.add_option("--max-rounds", cl.max_rounds,
+                 "outer rounds (triangulation + LM), in [1, 100]; default 4 (2D), 6 (3D)");
   app.add_option("--compaction", cl.compaction,
-                 "force-biased growth and locking after the rounds: on | off; default off (2D), on (3D)")
-;
+                 "force-biased compaction (growth of all radii while overlaps are pushed apart) "
+                 "at the start of round 3: on | off; default off (2D), on (3D)");
   app.add_option("--compaction-exponent", cl.compaction_exponent,
                  "compaction displacement ~ overlap^exponent, in [0.5, 4]; default 1");
   app.add_option("--compaction-rounds", cl.compaction_rounds,
                  "rounds that start with a compaction (from round 3), in [1, 100]; default 1");
-  app.add_option("--seed", cl.seed, "random seed; same seed, same machine: identical output");
+  app.add_option("--seed", cl.seed,
+                 "random seed, >= 0, default 1; same seed, same machine: identical output");
   app.add_option("--threads", cl.threads, "threads for the least-squares solver, default 2");
   app.add_option("--output", cl.output.directory, "output directory (created), default out");
   app.add_option("--name", cl.output.name, "file name prefix, default packing");
@@ -160,12 +192,12 @@ int main(int argc, char** argv) {
   app.add_flag("--quiet", cl.quiet, "no progress display");
   app.add_flag("--trace", cl.trace,
                "record porosity and largest overlap after every LM iteration in the JSON report");
-  CLI11_PARSE(app, argc, argv);
-  if (cl.mean_radius <= 0.0 && cl.count <= 0 && !radius->count() && !count->count()) {
+  if (int status = 0; !ParseCommandLine(app, argc, argv, &status)) return status;
+  if (!radius->count() && !count->count()) {
     std::cerr << "generate-packing: error: give --count or --mean-radius\n";
     return kExitBadInput;
   }
   return RunCommand("generate-packing", [&] {
     return DomainDimension(cl.domain) == 2 ? Run<2>(cl) : Run<3>(cl);
-  });
+  }, kOptionNames);
 }

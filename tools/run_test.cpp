@@ -20,6 +20,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "common/progress.h"
 #include "generator/generate.h"
@@ -37,8 +38,8 @@ namespace {
 struct CommandLine {
   std::string scene;
   std::string output = "out";
-  std::string name;
-  int threads = 0;
+  std::optional<std::string> name;  // given: replaces the scene's [output] name
+  std::optional<int> threads;       // given: replaces the scene's [test] threads
   bool no_pictures = false;
   bool no_snapshots = false;
   bool no_quasi_static_check = false;
@@ -67,14 +68,15 @@ template <int Dim>
 int Run(LabScene scene, const CommandLine& cl) {
   // 1. The command line overrides the scene's output and run settings.
   scene.output.directory = cl.output;
-  if (!cl.name.empty()) scene.output.name = cl.name;
-  if (cl.threads > 0) scene.test.num_threads = cl.threads;
+  if (cl.name) scene.output.name = *cl.name;  // an empty name is rejected below
+  if (cl.threads) scene.test.num_threads = *cl.threads;
   if (cl.no_pictures) scene.output.pictures = false;
   if (cl.no_snapshots) scene.output.snapshots = false;
   if (cl.no_quasi_static_check) scene.test.check_quasi_static = false;
   scene.test.record_snapshots = scene.output.pictures || scene.output.snapshots;
   std::string error;
-  if (!scene.test.IsValid(&error)) throw InputError(error);
+  if (!scene.test.IsValid(&error))
+    throw InputError(InUserTerms(error, {{"num_threads", "--threads (or [test] threads)"}}));
 
   // 2. The specimen, checked against the test before the run; then the output location.
   const Packing<Dim> packing = SceneSpecimen<Dim>(scene, cl.quiet);
@@ -141,7 +143,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-quasi-static-check", cl.no_quasi_static_check,
                "skip the half-rate repeat of the quasi-static check");
   app.add_flag("--quiet", cl.quiet, "no progress display");
-  CLI11_PARSE(app, argc, argv);
+  if (int status = 0; !ParseCommandLine(app, argc, argv, &status)) return status;
   return RunCommand("run-test", [&] {
     LabScene scene = LoadLabScene(cl.scene);
     if (scene.dimension == 0) scene.dimension = ReadPackingDimension(scene.packing_path);

@@ -16,7 +16,8 @@
 // certified 2/omega_max of the network (DEM and DDEM), the recommended step, rho(B) of the
 // DDEM force iteration and the admissible kn/(Ep l) with the lattice closed forms, and the
 // verdict (stable / marginal / unstable, the binding limit and its margin in per cent).
-// Writes into --output (default out/): NAME_stability.json; with --sweep nu_p also
+// Writes into --output (default out/): NAME_stability.json and the printed report as
+// NAME_stability.txt; with --sweep nu_p also
 // NAME_sweep_nu_p.csv and NAME_sweep_nu_p.png (gnuplot). Exit statuses: tools/command_line.h
 // (a successful analysis exits 0 whatever the verdict; read it from the JSON). Bad input: a
 // message naming the field and its allowed range, exit status 2, and no file written.
@@ -28,6 +29,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -49,14 +51,36 @@ struct CommandLine {
   std::string walls;
   std::string sweep;
   std::vector<double> sweep_values;
-  double margin_percent = -1.0;
-  double failure_probability = -1.0;
-  double tolerance_percent = -1.0;
+  // Given: applied as given (a bad value is rejected, never replaced by the default).
+  std::optional<double> margin_percent;
+  std::optional<double> failure_probability;
+  std::optional<double> tolerance_percent;
   int threads = 0;  // 0: every core of the machine
   std::string output = "out";
   std::string name = "packing";
   bool pictures = true;
   bool quiet = false;
+};
+
+// The library's field names in the messages, as the options (and file keys) that set them.
+const FieldNames kOptionNames = {
+    {"normal_stiffness_n_per_m (kn)", "kn (--kn, [material] normal_stiffness)"},
+    {"tangential_stiffness_n_per_m (kt)", "kt (--kt, [material] tangential_stiffness)"},
+    {"density_kg_per_m3", "density (--density, [material] density)"},
+    {"particle_youngs_modulus_pa (Ep)", "Ep (--Ep, [material] particle_youngs_modulus)"},
+    {"particle_poisson_ratio (nu_p)", "nu_p (--nu-p, [material] particle_poisson_ratio)"},
+    {"translational_damping (alpha_t)", "alpha_t (--damping, [material] translational_damping)"},
+    {"rotational_damping (alpha_r)", "alpha_r (--damping, [material] rotational_damping)"},
+    {"normal_dashpot_ratio (xi_n)", "xi_n (--dashpot, [material] normal_dashpot_ratio)"},
+    {"tangential_dashpot_ratio (xi_t)", "xi_t (--dashpot, [material] tangential_dashpot_ratio)"},
+    {"mass_scaling_budget", "the mass scaling budget (--mass-scaling, [material] mass_scaling)"},
+    {"proposed_time_step_s", "the proposed time step (--dt, [time_step] time_step)"},
+    {"safety_factor", "safety_factor (--safety, [time_step] safety_factor)"},
+    {"time_step_margin", "the time step margin (--margin / 100, [stability] time_step_margin)"},
+    {"max_spectral_radius", "max_spectral_radius (--max-rho, [stability] max_spectral_radius)"},
+    {"failure_probability", "--failure-probability"},
+    {"relative_tolerance", "the Lanczos tolerance (--tolerance / 100)"},
+    {"num_threads", "--threads"},
 };
 
 // --threads 0: the cores the machine leaves idle (cores minus the 1-minute load average, at
@@ -115,11 +139,23 @@ int Run(const CommandLine& cl) {
     while (std::getline(list, side, ',')) sides.push_back(side);
     values.wall_sides = sides;
   }
-  if (cl.margin_percent >= 0.0) values.time_step_margin = cl.margin_percent / 100.0;
+  if (cl.margin_percent) values.time_step_margin = *cl.margin_percent / 100.0;
   if (!cl.parameters.empty())
     values = MergeStabilityParameters(values, LoadStabilityParameters(cl.parameters));
   if (!cl.sweep.empty() && cl.sweep != "nu_p")
     throw InputError("--sweep '" + cl.sweep + "' is not allowed: the only sweep is nu_p");
+  // Settings that would be silently ignored: say so instead.
+  if (cl.sweep.empty() && !cl.sweep_values.empty())
+    throw InputError("--sweep-values is given without --sweep nu_p");
+  if ((!values.wall_sides || values.wall_sides->empty()) &&
+      (values.wall_normal_stiffness_n_per_m || values.wall_tangential_stiffness_n_per_m ||
+       values.wall_friction))
+    throw InputError("wall stiffness or friction is given (--wall-stiffness, --wall-kt, "
+                     "--wall-friction or [walls]) but no wall: give --walls or [walls] sides");
+  if (values.particle_poisson_ratio && !values.particle_youngs_modulus_pa)
+    throw InputError("nu_p (--nu-p, [material] particle_poisson_ratio) is given without Ep "
+                     "(--Ep, [material] particle_youngs_modulus): give both for deformable "
+                     "particles (DDEM), neither for rigid ones");
   if (cl.threads < 0)
     throw InputError("--threads = " + std::to_string(cl.threads) +
                      " is not allowed: it must be >= 1 (or 0 for every core)");
@@ -127,8 +163,8 @@ int Run(const CommandLine& cl) {
   SceneOptions<Dim> scene = StabilitySceneOf<Dim>(values, packing);
   scene.num_threads = cl.threads > 0 ? cl.threads : IdleCores();
   StabilityOptions options = StabilityOptionsOf(values);
-  if (cl.failure_probability > 0.0) options.lanczos.failure_probability = cl.failure_probability;
-  if (cl.tolerance_percent > 0.0) options.lanczos.relative_tolerance = cl.tolerance_percent / 100.0;
+  if (cl.failure_probability) options.lanczos.failure_probability = *cl.failure_probability;
+  if (cl.tolerance_percent) options.lanczos.relative_tolerance = *cl.tolerance_percent / 100.0;
   if (!cl.sweep.empty())
     options.sweep_poisson_ratios = cl.sweep_values.empty() ? kDefaultSweep : cl.sweep_values;
   std::string error;
@@ -154,8 +190,10 @@ int Run(const CommandLine& cl) {
   report["packing"] = cl.packing;
   report["parameters_file"] = cl.parameters;
   report["analysis"] = summary.ToJson();
+  const std::string text = summary.FullReport();
   OutputGroup group;
   group.Add(base + "_stability.json", [&](std::ostream& out) { out << report.dump(2) << "\n"; });
+  group.Add(base + "_stability.txt", [&](std::ostream& out) { out << text << "\n"; });
   const std::string csv = base + "_sweep_nu_p.csv";
   if (!summary.sweep.empty()) group.Add(csv, [&](std::ostream& out) { out << SweepCsv(summary); });
   std::vector<std::string> files = group.Commit();
@@ -170,7 +208,7 @@ int Run(const CommandLine& cl) {
   }
 
   // 5. Report.
-  std::cout << summary.FullReport() << "\nfiles:\n";
+  std::cout << text << "\nfiles:\n";
   for (const auto& file : files) std::cout << "  " << file << "\n";
   for (const auto& warning : warnings) std::cerr << "warning: " << warning << "\n";
   return kExitOk;
@@ -237,8 +275,8 @@ int main(int argc, char** argv) {
       "--no-pictures", [&](std::int64_t) { cl.pictures = false; },
       "do not draw the sweep picture (the CSV is still written)");
   app.add_flag("--quiet", cl.quiet, "no progress display");
-  CLI11_PARSE(app, argc, argv);
+  if (int status = 0; !ParseCommandLine(app, argc, argv, &status)) return status;
   return RunCommand("stability-limit", [&] {
     return ReadPackingDimension(cl.packing) == 2 ? Run<2>(cl) : Run<3>(cl);
-  });
+  }, kOptionNames);
 }

@@ -102,6 +102,11 @@ TEST_F(RunTestCommand, BadInputWritesNothing) {
       {"kind = \"brazilian\"\n", "disc"},
       {"kind = \"ucs\"\nno_such_key = 1\n", "no_such_key"},
       {"kind = \"triaxial\"\n", "triaxial"},
+      // The messages name the scene's keys, not the library's fields.
+      {"kind = \"ucs\"\nsafety_factor = 1.5\n", "safety_factor = 1.5"},
+      {"kind = \"ucs\"\npost_peak_fraction = 2\n", "post_peak_fraction = 2"},
+      // An integer is not a boolean.
+      {"kind = \"ucs\"\nquasi_static_check = 7\n", "true or false"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.test);
@@ -112,6 +117,24 @@ TEST_F(RunTestCommand, BadInputWritesNothing) {
     EXPECT_NE(r.output.find(c.words), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("run-test: error:"), std::string::npos) << r.output;
     EXPECT_TRUE(MissingOrEmpty(out)) << r.output;
+  }
+  {  // nu_p without Ep would silently run rigid particles
+    const fs::path dir = Scratch("nu_p");
+    const Result r = RunTest(Scene(dir, "kind = \"ucs\"\n", "particle_poisson_ratio = 0.3\n").string() +
+                             " --output " + (dir / "out").string());
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("particle_youngs_modulus"), std::string::npos) << r.output;
+    EXPECT_TRUE(MissingOrEmpty(dir / "out"));
+  }
+  // Options of the command line: a value given is applied as given, parse errors are bad
+  // input (status 2, not CLI11's own codes).
+  for (const char* options : {"--threads 0", "--name ''", "--bogus", "--threads two"}) {
+    SCOPED_TRACE(options);
+    const fs::path dir = Scratch("options");
+    const Result r = RunTest(Scene(dir, "kind = \"ucs\"\n").string() + " --output " +
+                             (dir / "out").string() + " " + options);
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_TRUE(MissingOrEmpty(dir / "out"));
   }
   // A domain the packing does not fill (a generated specimen must match its own domain; a
   // packing file whose domain is larger than its particles).
@@ -143,6 +166,10 @@ TEST_F(RunTestCommand, FileErrors) {
   r = RunTest(Scene(dir, "kind = \"ucs\"\n").string() + " --output " + (dir / "file" / "out").string());
   EXPECT_EQ(r.status, 3) << r.output;
   EXPECT_EQ(r.output.find("UCS (peak)"), std::string::npos) << r.output;  // no test was run
+  // A directory given as the scene.
+  r = RunTest(dir.string() + " --output " + (dir / "out").string());
+  EXPECT_EQ(r.status, 3) << r.output;
+  EXPECT_NE(r.output.find("is a directory"), std::string::npos) << r.output;
   // A scene that is not TOML.
   std::ofstream(dir / "broken.toml") << "[test\nkind = ";
   r = RunTest((dir / "broken.toml").string() + " --output " + (dir / "out").string());

@@ -33,45 +33,64 @@ TEST(CalibrateToMaterialCommand, BadInputExitsWithTwoAndWritesNothing) {
   const fs::path out = fs::temp_directory_path() / "specimen_cal_cli_out";
   fs::remove_all(out);
   const std::string o = " --output " + out.string() + " --maps-dir " + (out / "maps").string();
-  Result r = RunCalibrate(Material("negative_e", "youngs_modulus = -1\npoisson_ratio = 0.2\nucs = 1e8\n"
-                                        "tensile_strength = 1e7\ndensity = 2580\n").string() + o);
-  EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find("youngs_modulus"), std::string::npos) << r.output;
-  r = RunCalibrate(Material("nu", "youngs_modulus = 1e10\npoisson_ratio = 0.5\nucs = 1e8\n"
-                         "tensile_strength = 1e7\ndensity = 2580\n").string() + o);
-  EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find("poisson_ratio"), std::string::npos) << r.output;
-  r = RunCalibrate(Material("ucs", "youngs_modulus = 1e10\npoisson_ratio = 0.2\nucs = 1e6\n"
-                          "tensile_strength = 1e7\ndensity = 2580\n").string() + o);
-  EXPECT_EQ(r.status, 2) << r.output;
-  r = RunCalibrate(Material("density", "youngs_modulus = 1e10\npoisson_ratio = 0.2\nucs = 1e8\n"
-                              "tensile_strength = 1e7\ndensity = -5\n").string() + o);
-  EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find("density"), std::string::npos) << r.output;
   const std::string good = Material("good", kGood).string();
-  r = RunCalibrate(good + o + " --model magic");
-  EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find("--model"), std::string::npos) << r.output;
-  r = RunCalibrate(good + o + " --dimension 4");
-  EXPECT_EQ(r.status, 2) << r.output;
-  r = RunCalibrate(good + o + " --max-spectral-radius 1.2");
-  EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find("max_spectral_radius"), std::string::npos) << r.output;
-  r = RunCalibrate(good + o + " --sweep-fraction 0");
-  EXPECT_EQ(r.status, 2) << r.output;
-  // Unreadable maps: a garbage file (after the specimens are generated; small ones).
+  const fs::path typed = fs::temp_directory_path() / "specimen_cal_cli_typed.toml";
+  std::ofstream(typed) << "[material]\nname = 42\n" << kGood;
+  const fs::path not_array = fs::temp_directory_path() / "specimen_cal_cli_confined.toml";
+  std::ofstream(not_array) << "confined = 5\n[material]\n" << kGood;
   fs::create_directories(fs::temp_directory_path() / "specimen_cal_cli_maps");
   const fs::path garbage = fs::temp_directory_path() / "specimen_cal_cli_maps" / "garbage.json";
   std::ofstream(garbage) << "{ not json";
-  r = RunCalibrate(good + o + " --ucs-domain 'rectangle 0 0 0.01 0.01' --count 200 --maps " + garbage.string());
-  EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find("not valid JSON"), std::string::npos) << r.output;
-  EXPECT_TRUE(!fs::exists(out) || fs::is_empty(out) ||
-              (fs::directory_iterator(out) == fs::directory_iterator()))
-      << "partial output written";
-  // Files that do not exist.
-  r = RunCalibrate("/nonexistent/material.toml" + o);
-  EXPECT_EQ(r.status, 3) << r.output;
+  struct Case {
+    std::string arguments;
+    int status;
+    std::string must_mention;  // empty: the status alone
+  };
+  const Case cases[] = {
+      // Non-physical properties.
+      {Material("negative_e", "youngs_modulus = -1\npoisson_ratio = 0.2\nucs = 1e8\n"
+                              "tensile_strength = 1e7\ndensity = 2580\n").string() + o,
+       2, "youngs_modulus"},
+      {Material("nu", "youngs_modulus = 1e10\npoisson_ratio = 0.5\nucs = 1e8\n"
+                      "tensile_strength = 1e7\ndensity = 2580\n").string() + o,
+       2, "poisson_ratio"},
+      {Material("ucs", "youngs_modulus = 1e10\npoisson_ratio = 0.2\nucs = 1e6\n"
+                       "tensile_strength = 1e7\ndensity = 2580\n").string() + o,
+       2, ""},
+      {Material("density", "youngs_modulus = 1e10\npoisson_ratio = 0.2\nucs = 1e8\n"
+                           "tensile_strength = 1e7\ndensity = -5\n").string() + o,
+       2, "density"},
+      // Wrong types in the material file are reported, not replaced.
+      {typed.string() + o, 2, "'name' must be a string"},
+      {not_array.string() + o, 2, "'confined' must be an array"},
+      // Options, named as typed. A value given is applied as given: 0 is rejected, not taken
+      // for the default (which would start a real calibration).
+      {good + o + " --model magic", 2, "--model"},
+      {good + o + " --dimension 4", 2, "--dimension"},
+      {good + o + " --max-spectral-radius 1.2", 2, "--max-spectral-radius"},
+      {good + o + " --sweep-fraction 0", 2, "--sweep-fraction"},
+      {good + o + " --count 0", 2, "--count"},
+      {good + o + " --rate-group 0", 2, "--rate-group"},
+      {good + o + " --rounds 0", 2, "--rounds"},
+      {good + o + " --seed -1", 2, "--seed"},
+      {good + o + " --bogus", 2, "--bogus"},
+      // Map locations and contents are checked before any specimen is generated.
+      {good + o + " --maps /nonexistent/maps.json", 3, "does not exist"},
+      {good + o + " --maps " + fs::temp_directory_path().string(), 3, "not a regular file"},
+      {good + " --output " + out.string() + " --maps-dir " + good, 3, "not a directory"},
+      {good + o + " --maps " + garbage.string(), 2, "not valid JSON"},
+      // Files that do not exist.
+      {"/nonexistent/material.toml" + o, 3, ""},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.arguments);
+    const Result r = RunCalibrate(c.arguments);
+    EXPECT_EQ(r.status, c.status) << r.output;
+    if (!c.must_mention.empty()) {
+      EXPECT_NE(r.output.find(c.must_mention), std::string::npos) << r.output;
+    }
+    EXPECT_TRUE(!fs::exists(out) || fs::is_empty(out)) << "partial output written";
+  }
   fs::remove_all(out);
 }
 

@@ -50,14 +50,27 @@ TEST(GeneratePackingCommand, BadInputExitsWithTwoAndWritesNothing) {
   const Case cases[] = {
       {"--domain \"hexagon 0 0 1\" --count 100", "unknown domain"},
       {"--domain \"rectangle 0 0 -5 10\" --count 100", "width"},
-      {"--domain \"rectangle 0 0 10 10\" --count 100 --radius-ratio 0.5", "radius_ratio"},
-      {"--domain \"rectangle 0 0 10 10\" --mean-radius -0.1", "mean_radius"},
+      {"--domain \"rectangle 0 0 10 10\" --count 100 --radius-ratio 0.5", "--radius-ratio"},
+      // A bad value given is rejected, never replaced by the default.
+      {"--domain \"rectangle 0 0 10 10\" --count 100 --radius-ratio -3", "--radius-ratio"},
+      {"--domain \"rectangle 0 0 10 10\" --count 100 --max-rounds 0", "--max-rounds"},
+      {"--domain \"rectangle 0 0 10 10\" --count 100 --node-spread 0", "--node-spread"},
+      {"--domain \"rectangle 0 0 10 10\" --count 100 --overlap-tolerance -1", "--overlap-tolerance"},
+      {"--domain \"rectangle 0 0 10 10\" --count 100 --threads 0", "--threads"},
+      {"--domain \"rectangle 0 0 10 10\" --count 100 --seed -1", "--seed"},
+      {"--domain \"rectangle 0 0 10 10\" --count 0", "--count"},
+      {"--domain \"rectangle 0 0 10 10\" --mean-radius -0.1", "--mean-radius"},
+      // Parse errors of the command line itself are bad input too (not CLI11's own codes).
+      {"--domain \"rectangle 0 0 10 10\" --count nan", "--count"},
+      {"--domain \"rectangle 0 0 10 10\" --count 100 --bogus", "--bogus"},
+      {"--count 100", "--domain"},
       {"--domain \"rectangle 0 0 1 1\" --mean-radius 0.4", "too small"},
       {"--domain \"polygon 4 0 0 1 1 1 0 0 1\" --count 100", "self-intersecting"},
       {"--domain \"cylinder 0 0 0.5 1 1\" --count 100", "cylinder length"},
-      {"--domain \"rectangle 0 0 10 10\" --count 100 --contact-tolerance 0.9", "contact_tolerance"},
+      {"--domain \"rectangle 0 0 10 10\" --count 100 --contact-tolerance 0.9", "--contact-tolerance"},
+      {"--domain \"rectangle 0 0 10 10\" --count 100 --contact-tolerance 0", "--contact-tolerance"},
       {"--domain \"box 0 0 0 1 1 1\" --count 100 --compaction maybe", "--compaction"},
-      {"--domain \"box 0 0 0 1 1 1\" --count 100 --compaction-exponent 9", "compaction_exponent"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --compaction-exponent 9", "--compaction-exponent"},
   };
   for (const Case& c : cases) {
     const fs::path dir = FreshDirectory("bad");
@@ -66,6 +79,17 @@ TEST(GeneratePackingCommand, BadInputExitsWithTwoAndWritesNothing) {
     EXPECT_NE(r.output.find(c.must_mention), std::string::npos) << c.arguments << "\n" << r.output;
     EXPECT_TRUE(EmptyOrMissing(dir)) << c.arguments;
   }
+}
+
+TEST(GeneratePackingCommand, NoPicturesStillWritesTheirCsvFiles) {
+  const fs::path dir = FreshDirectory("no_pictures");
+  const Result r =
+      RunCommandLine("--domain \"rectangle 0 0 10 10\" --count 400 --no-pictures --output " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* file : {"packing_radii.csv", "packing_orientation.csv"})
+    EXPECT_TRUE(fs::exists(dir / file)) << file;
+  for (const auto& entry : fs::directory_iterator(dir))
+    EXPECT_NE(entry.path().extension(), ".png") << entry.path();
 }
 
 TEST(GeneratePackingCommand, UnwritableOutputFailsBeforeWork) {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -76,6 +77,11 @@ TEST_F(StabilityLimitCommand, FirstSampleRunWritesTheReportAndJson) {
     EXPECT_NE(r.output.find(text), std::string::npos) << text << "\n" << r.output;
   const nlohmann::json j = ReadJson(dir / "packing_stability.json");
   EXPECT_EQ(j["command"], "stability-limit");
+  {  // the printed report is also a file
+    std::ifstream text(dir / "packing_stability.txt");
+    const std::string report((std::istreambuf_iterator<char>(text)), std::istreambuf_iterator<char>());
+    EXPECT_NE(report.find("Verdict for the recommended time step"), std::string::npos) << report;
+  }
   const nlohmann::json& a = j["analysis"];
   for (const char* key : {"scene", "time_step", "ddem_convergence", "verdict", "sweep", "warnings"})
     EXPECT_TRUE(a.contains(key)) << key;
@@ -179,11 +185,24 @@ TEST_F(StabilityLimitCommand, BadInputExitsWithTwoAndWritesNothing) {
   const Case cases[] = {
       {"--density 2000", "kn is missing"},
       {"--kn 7e10", "density is missing"},
-      {"--kn -7e10 --density 2000", "normal_stiffness_n_per_m (kn) = -7e+10"},
-      {"--kn 7e10 --density 2000 --Ep 2e11 --nu-p 0.6", "particle_poisson_ratio (nu_p) = 0.6"},
+      // The messages name the options and file keys, not the library's fields.
+      {"--kn -7e10 --density 2000", "kn (--kn, [material] normal_stiffness) = -7e+10"},
+      {"--kn 7e10 --density 2000 --Ep 2e11 --nu-p 0.6",
+       "nu_p (--nu-p, [material] particle_poisson_ratio) = 0.6"},
       {"--kn 7e10 --density 2000 --plane cylinder", "plane_model = 'cylinder'"},
       {"--kn 7e10 --density 2000 --dt -1", "time_step = -1"},
-      {"--kn 7e10 --density 2000 --safety 1.5", "safety_factor = 1.5"},
+      {"--kn 7e10 --density 2000 --safety 1.5", "(--safety, [time_step] safety_factor) = 1.5"},
+      // A bad value given is rejected, never replaced by the default.
+      {"--kn 7e10 --density 2000 --margin -5", "--margin"},
+      {"--kn 7e10 --density 2000 --failure-probability -1", "--failure-probability"},
+      {"--kn 7e10 --density 2000 --tolerance -1", "--tolerance"},
+      // Settings that would be ignored are reported.
+      {"--kn 7e10 --density 2000 --sweep-values 0.1,0.2", "without --sweep"},
+      {"--kn 7e10 --density 2000 --wall-kt 1e9", "no wall"},
+      {"--kn 7e10 --density 2000 --nu-p 0.3", "without Ep"},
+      // Command-line parse errors are bad input too.
+      {"--kn 7e10 --density 2000 --bogus", "--bogus"},
+      {"--kn abc --density 2000", "--kn"},
       {"--kn 7e10 --density 2000 --walls bottom,diagonal", "side 'diagonal'"},
       {"--kn 7e10 --density 2000 --sweep E", "--sweep 'E'"},
       {"--kn 7e10 --density 2000 --sweep nu_p --sweep-values 0.2,0.7", "sweep nu_p = 0.7"},
