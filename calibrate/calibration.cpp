@@ -319,7 +319,7 @@ CalibrationSpecimens<Dim> MakeCalibrationSpecimens(const SpecimenPlan<Dim>& plan
   const Domain<Dim> bts_domain = BrazilianDomainFor(ucs_domain);
   Packing<Dim> bts = Generate<Dim>(bts_domain, 0, mean_radius, plan, "Brazilian specimen");
   std::ostringstream text;
-  text << "UCS " << ucs_domain.ToText() << " (" << ucs.size() << " particles), Brazilian " << bts_domain.ToText()
+  text << "UCS " << ucs_domain.ToShortText() << " (" << ucs.size() << " particles), Brazilian " << bts_domain.ToShortText()
        << " (" << bts.size() << ")";
   if (plan.sweep_fraction >= 1.0) {
     text << "; maps on the same specimens; seed " << plan.seed;
@@ -332,8 +332,8 @@ CalibrationSpecimens<Dim> MakeCalibrationSpecimens(const SpecimenPlan<Dim>& plan
   const Domain<Dim> sweep_bts_domain = ScaledDomain(bts_domain, scale);
   Packing<Dim> sweep_ucs = Generate<Dim>(sweep_ucs_domain, 0, mean_radius, plan, "map UCS specimen");
   Packing<Dim> sweep_bts = Generate<Dim>(sweep_bts_domain, 0, mean_radius, plan, "map Brazilian specimen");
-  text << "; maps on UCS " << sweep_ucs_domain.ToText() << " (" << sweep_ucs.size() << "), Brazilian "
-       << sweep_bts_domain.ToText() << " (" << sweep_bts.size() << "); seed " << plan.seed;
+  text << "; maps on UCS " << sweep_ucs_domain.ToShortText() << " (" << sweep_ucs.size() << "), Brazilian "
+       << sweep_bts_domain.ToShortText() << " (" << sweep_bts.size() << "); seed " << plan.seed;
   CalibrationSpecimens<Dim> s(std::move(ucs), std::move(bts), std::move(sweep_ucs), std::move(sweep_bts));
   s.description = text.str();
   return s;

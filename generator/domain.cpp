@@ -393,29 +393,46 @@ Vector<Dim> Domain<Dim>::Mirror(const BoundaryFacet<Dim>& facet, const Vector<Di
 
 template <int Dim>
 std::string Domain<Dim>::ToText() const {
+  return Text(/*exact=*/true);
+}
+
+template <int Dim>
+std::string Domain<Dim>::ToShortText() const {
+  return Text(/*exact=*/false);
+}
+
+template <int Dim>
+std::string Domain<Dim>::Text(bool exact) const {
+  auto number = [exact](double v) {
+    if (exact) return ExactDouble(v);
+    std::ostringstream short_form;
+    short_form.precision(10);
+    short_form << v;
+    return short_form.str();
+  };
   std::ostringstream out;
   out << ShapeName();
   switch (shape_) {
     case DomainShape::kRectangle:
-      out << ' ' << ExactDouble(lower_[0]) << ' ' << ExactDouble(lower_[1]) << ' '
-          << ExactDouble(upper_[0]) << ' ' << ExactDouble(upper_[1]);
+      out << ' ' << number(lower_[0]) << ' ' << number(lower_[1]) << ' '
+          << number(upper_[0]) << ' ' << number(upper_[1]);
       break;
     case DomainShape::kPolygon:
       out << ' ' << vertices_.size();
-      for (const auto& v : vertices_) out << ' ' << ExactDouble(v.x()) << ' ' << ExactDouble(v.y());
+      for (const auto& v : vertices_) out << ' ' << number(v.x()) << ' ' << number(v.y());
       break;
     case DomainShape::kDisc:
-      out << ' ' << ExactDouble(centre_.x()) << ' ' << ExactDouble(centre_.y()) << ' '
-          << ExactDouble(radius_);
+      out << ' ' << number(centre_.x()) << ' ' << number(centre_.y()) << ' '
+          << number(radius_);
       break;
     case DomainShape::kBox:
-      for (int k = 0; k < Dim; ++k) out << ' ' << ExactDouble(lower_[k]);
-      for (int k = 0; k < Dim; ++k) out << ' ' << ExactDouble(upper_[k]);
+      for (int k = 0; k < Dim; ++k) out << ' ' << number(lower_[k]);
+      for (int k = 0; k < Dim; ++k) out << ' ' << number(upper_[k]);
       break;
     case DomainShape::kCylinder:
-      out << ' ' << ExactDouble(centre_.x()) << ' ' << ExactDouble(centre_.y()) << ' '
-          << ExactDouble(radius_) << ' ' << ExactDouble(lower_[Dim - 1]) << ' '
-          << ExactDouble(upper_[Dim - 1]);
+      out << ' ' << number(centre_.x()) << ' ' << number(centre_.y()) << ' '
+          << number(radius_) << ' ' << number(lower_[Dim - 1]) << ' '
+          << number(upper_[Dim - 1]);
       break;
   }
   return out.str();

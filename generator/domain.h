@@ -85,10 +85,14 @@ class Domain {
 
   // One-line text form, e.g. "rectangle 0 0 100 100"; Parse() reads it back bit-exactly.
   std::string ToText() const;
+  // The same with 10 significant digits, for reports a person reads: "0.05", not
+  // "0.050000000000000003".
+  std::string ToShortText() const;
   static Domain Parse(const std::string& text);
 
  private:
   Domain() = default;
+  std::string Text(bool exact) const;
   void BuildFacets();
 
   DomainShape shape_ = DomainShape::kBox;

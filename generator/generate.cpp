@@ -321,7 +321,7 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
   GeneratorSummary local_summary;
   GeneratorSummary& s = summary ? *summary : local_summary;
   s = GeneratorSummary();
-  s.dimension_and_domain = std::to_string(Dim) + "D " + domain.ToText();
+  s.dimension_and_domain = std::to_string(Dim) + "D " + domain.ToShortText();
   const auto start = Clock::now();
   auto report = [&](double fraction, const std::string& message) {
     if (options.progress) options.progress(fraction, message);

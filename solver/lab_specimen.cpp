@@ -50,7 +50,7 @@ void CheckSpecimenShape(const Domain<Dim>& domain, LabTestKind kind) {
   if (!ShapeFits(kind, domain.shape()))
     throw InputError(std::string("test '") + LabTestKindName(kind) + "' needs a specimen that is " +
                      AcceptedShapes(kind) + "; the packing's domain is a " + domain.ShapeName() +
-                     " (" + domain.ToText() + "): generate the packing in the test's shape");
+                     " (" + domain.ToShortText() + "): generate the packing in the test's shape");
 }
 
 template <int Dim>
@@ -60,7 +60,7 @@ LabSpecimen<Dim> DescribeSpecimen(const Packing<Dim>& packing, LabTestKind kind,
   CheckSpecimenShape<Dim>(domain, kind);
   const std::string test = std::string("test '") + LabTestKindName(kind) + "'";
   const std::string where = test + " on the packing's " + domain.ShapeName() + " domain (" +
-                            domain.ToText() + ")";
+                            domain.ToShortText() + ")";
   if (packing.size() < 2 * (Dim + 1))
     throw InputError(where + ": " + std::to_string(packing.size()) +
                      " particles are too few for a specimen (" + std::to_string(2 * (Dim + 1)) +

@@ -178,7 +178,7 @@ LabTestResult RunLabTest(const Packing<Dim>& packing, const MaterialParameters& 
   // 5. What the test ran on.
   result.dimension = Dim;
   result.kind = options.kind;
-  result.domain = packing.domain.ToText();
+  result.domain = packing.domain.ToShortText();  // for reading; the packing file is exact
   result.particles = packing.size();
   result.porosity = specimen.nominal_porosity;
   result.mean_radius_m = specimen.mean_radius_m;

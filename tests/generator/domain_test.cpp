@@ -63,6 +63,10 @@ TEST(Domain, PolygonOrientationAndReflexCorner) {
 TEST(Domain, TextRoundTripIsBitExact) {
   const auto rect = Domain<2>::Rectangle(0.1, -0.3, 100.0 / 3.0, 2.0 / 7.0);
   EXPECT_EQ(Domain<2>::Parse(rect.ToText()).ToText(), rect.ToText());
+  // The short form is for reading: 0.05 stays 0.05 (the exact form has 17 digits).
+  EXPECT_EQ(Domain<2>::Rectangle(0, 0, 0.05, 0.05).ToShortText(), "rectangle 0 0 0.05 0.05");
+  EXPECT_EQ(Domain<3>::Cylinder(0, 0, 0.025, 0, 0.1).ToShortText(),
+            "cylinder 0 0 0.025 0 0.1");
   const auto poly = Domain<2>::Polygon({{0, 0}, {1.0 / 3.0, 0}, {0.5, 0.7}, {0, 1}});
   const auto poly2 = Domain<2>::Parse(poly.ToText());
   EXPECT_EQ(poly2.ToText(), poly.ToText());
