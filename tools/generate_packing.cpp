@@ -15,6 +15,7 @@
 // and its allowed range, exit status 2, and no file written.
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -100,7 +101,11 @@ int Run(const CommandLine& cl) {
     options.initial_radius_factor_max = cl.radius_factor[1];
   }
   if (cl.contact_tolerance) options.contact_tolerance = *cl.contact_tolerance;
-  if (cl.overlap_tolerance) options.overlap_tolerance = *cl.overlap_tolerance;
+  if (cl.overlap_tolerance) {
+    options.overlap_tolerance = *cl.overlap_tolerance;
+    // Pairs folded over each other must overlap by more than what a round may leave.
+    options.conflict_overlap = std::max(options.conflict_overlap, 2.0 * options.overlap_tolerance);
+  }
   if (cl.max_rounds) options.max_rounds = *cl.max_rounds;
   if (cl.seed < 0)
     throw InputError("--seed = " + std::to_string(cl.seed) + " is not allowed: it must be >= 0");
@@ -166,8 +171,9 @@ int main(int argc, char** argv) {
                  "pairs with |gap| <= this * mean radius are contacts (bonds), in (0, 0.2]; "
                  "default 0.02");
   app.add_flag("--keep-overlaps", cl.keep_overlaps,
-               "keep overlaps up to 0.5 % of the mean radius (about 0.2 points denser in 2D; "
-               "the solver starts those bonds stress-free); default: exact contacts");
+               "keep overlaps up to --overlap-tolerance (about 0.2 points denser in 2D at the "
+               "default 0.5 % of the mean radius, 0.25 at 2 %; the solver starts those bonds "
+               "stress-free); default: exact contacts");
   app.add_option("--overlap-tolerance", cl.overlap_tolerance,
                  "largest overlap the densification may leave (relative to the mean radius), "
                  "removed exactly at the end or kept with --keep-overlaps, in [0, 0.1]; default 0.005");

@@ -3,12 +3,14 @@
 // error, 4 a strength test without a peak); nothing written for bad input.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -29,8 +31,11 @@ Result Execute(const std::string& command) {
   return result;
 }
 
+// Per process: ctest runs the tests of this suite as parallel processes, each of which makes
+// its own packing in SetUpTestSuite.
 fs::path Scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("specimen_run_test_cli_" + name);
+  const fs::path dir = fs::temp_directory_path() /
+                       ("specimen_run_test_cli_" + name + "_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -49,6 +54,18 @@ class RunTestCommand : public testing::Test {
                              dir.string());
     ASSERT_EQ(r.status, 0) << r.output;
     packing_ = (dir / "packing.packing").string();
+  }
+  // Removes this process's scratch directories.
+  static void TearDownTestSuite() {
+    const std::string suffix = "_" + std::to_string(getpid());
+    std::vector<fs::path> mine;
+    for (const auto& entry : fs::directory_iterator(fs::temp_directory_path())) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind("specimen_run_test_cli_", 0) == 0 && name.size() > suffix.size() &&
+          name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+        mine.push_back(entry.path());
+    }
+    for (const fs::path& dir : mine) fs::remove_all(dir);
   }
 
   // Writes a scene with the packing, a breakable material and `test` lines.

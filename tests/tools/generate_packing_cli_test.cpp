@@ -92,6 +92,18 @@ TEST(GeneratePackingCommand, NoPicturesStillWritesTheirCsvFiles) {
     EXPECT_NE(entry.path().extension(), ".png") << entry.path();
 }
 
+// Any tolerance in the documented range is usable: the fold-over threshold (conflict_overlap,
+// 0.05 by default) follows a larger overlap tolerance instead of rejecting it.
+TEST(GeneratePackingCommand, OverlapToleranceOverItsWholeRange) {
+  for (const char* tolerance : {"0", "0.02", "0.1"}) {
+    const fs::path dir = FreshDirectory("overlap_tolerance");
+    const Result r = RunCommandLine("--domain \"rectangle 0 0 10 10\" --count 200 --keep-overlaps "
+                                    "--no-pictures --overlap-tolerance " + std::string(tolerance) +
+                                    " --output " + dir.string());
+    EXPECT_EQ(r.status, 0) << tolerance << "\n" << r.output;
+  }
+}
+
 TEST(GeneratePackingCommand, UnwritableOutputFailsBeforeWork) {
   const Result r = RunCommandLine("--domain \"rectangle 0 0 10 10\" --count 100 --output /proc/specimen_no");
   EXPECT_EQ(r.status, 3) << r.output;
