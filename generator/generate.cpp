@@ -420,8 +420,9 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
   std::vector<char> free_particles;  // round 0: all
   for (int round = 0; round < options.max_rounds; ++round) {
     report(static_cast<double>(round) / options.max_rounds,
-           "densifying: round " + std::to_string(round + 1) + " of up to " +
-               std::to_string(options.max_rounds));
+           // Rounds are numbered from 0, as in the round table and the JSON.
+           "densifying: round " + std::to_string(round) + " (rounds 0 to " +
+               std::to_string(options.max_rounds - 1) + ")");
     const bool compacted = options.compaction && round >= options.compaction_round &&
                            round < options.compaction_round + options.compaction_rounds;
     if (compacted) {
