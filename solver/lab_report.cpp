@@ -150,6 +150,13 @@ std::string LabTestResult::FullReport() const {
             Format("%.3g %%", 100 * quasi_static.modulus_change) + ", peak change " +
             Format("%.3g %%", 100 * quasi_static.peak_change) + " (tolerance " +
             Format("%.3g %%", 100 * quasi_static.tolerance) + ")");
+  // Only the peak moved: on a small specimen one cascade decides it, and its path noise
+  // (2,059 discs: 28.4-32.2 MPa over five runs, not monotonic in the rate) can exceed the
+  // tolerance; 5,064 discs: 0.3-1.2 % (README, "The half-rate check needs ...").
+  if (quasi_static.performed && !quasi_static.passed &&
+      quasi_static.modulus_change <= quasi_static.tolerance)
+    row("", "only the peak changed: below about 5,000 particles the peak's path noise can "
+            "exceed the tolerance; compare several runs");
   out << "energy\n" << energy.Table("  ");
   row("wall time", Format("%.4g s", wall_seconds));
   return out.str();
