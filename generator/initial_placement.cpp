@@ -76,14 +76,30 @@ class InsertionGrid {
 
 }  // namespace
 
+double PowerLawSize(double spread, double exponent, double u) {
+  if (spread <= 1.0) return 1.0;
+  const double a = 1.0 - exponent;
+  if (std::abs(a) < 1e-12) return std::pow(spread, u);  // log-uniform
+  return std::pow(1.0 + u * (std::pow(spread, a) - 1.0), 1.0 / a);
+}
+
+double PowerLawMoment(double spread, double exponent, double k) {
+  if (spread <= 1.0) return 1.0;
+  // integral of s^p over [1, spread]
+  auto integral = [&](double p) {
+    return std::abs(p + 1.0) < 1e-12 ? std::log(spread) : (std::pow(spread, p + 1.0) - 1.0) / (p + 1.0);
+  };
+  return integral(k - exponent) / integral(-exponent);
+}
+
 template <int Dim>
 NodeSet<Dim> RandomSequentialNodes(const Domain<Dim>& domain, int target_count, double size_spread,
-                                   double fill_fraction, int attempts_per_node,
+                                   double size_exponent, double fill_fraction, int attempts_per_node,
                                    std::mt19937_64& rng) {
   if (target_count < 1) throw InputError("particle count must be >= 1");
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<double> sizes(static_cast<size_t>(target_count));
-  for (double& s : sizes) s = std::pow(size_spread, unit(rng));
+  for (double& s : sizes) s = PowerLawSize(size_spread, size_exponent, unit(rng));
   double volume = 0.0;
   for (double s : sizes) volume += ParticleVolume<Dim>(s);
   const double scale = std::pow(fill_fraction * domain.Volume() / volume, 1.0 / Dim);
@@ -149,9 +165,9 @@ std::vector<double> StienenRadii(const Domain<Dim>& domain, const NodeSet<Dim>& 
   return radii;
 }
 
-template NodeSet<2> RandomSequentialNodes<2>(const Domain<2>&, int, double, double, int,
+template NodeSet<2> RandomSequentialNodes<2>(const Domain<2>&, int, double, double, double, int,
                                              std::mt19937_64&);
-template NodeSet<3> RandomSequentialNodes<3>(const Domain<3>&, int, double, double, int,
+template NodeSet<3> RandomSequentialNodes<3>(const Domain<3>&, int, double, double, double, int,
                                              std::mt19937_64&);
 template std::vector<double> StienenRadii<2>(const Domain<2>&, const NodeSet<2>&, double, double,
                                              double, double, std::mt19937_64&);

@@ -23,15 +23,21 @@ struct NodeSet {
   std::vector<double> exclusion_radii;  // the RSA sphere of each node (local spacing / 2)
 };
 
-// Random sequential addition of `target_count` exclusion spheres with radii log-uniform
-// in [a, a * size_spread], `a` chosen so that they would fill `fill_fraction` of the
+// Random sequential addition of `target_count` exclusion spheres with radii distributed
+// over [a, a * size_spread] with number density ~ s^-size_exponent (1: log-uniform; 3:
+// equal volume per size decade... see NodeSizeMoment), `a` chosen so that they would fill `fill_fraction` of the
 // domain; each sphere lies inside the domain and overlaps no other. Spheres that find no
 // place within `attempts_per_node` trials are dropped, so the result may hold slightly
 // fewer nodes than asked.
 template <int Dim>
 NodeSet<Dim> RandomSequentialNodes(const Domain<Dim>& domain, int target_count, double size_spread,
-                                   double fill_fraction, int attempts_per_node,
+                                   double size_exponent, double fill_fraction, int attempts_per_node,
                                    std::mt19937_64& rng);
+
+// Truncated power law on [1, spread] with density ~ s^-exponent: draws a size from a
+// uniform number u in [0, 1) (inverse transform), and the moment E[s^k].
+double PowerLawSize(double spread, double exponent, double u);
+double PowerLawMoment(double spread, double exponent, double k);
 
 // Step 2, Stienen-like radii: each node takes its share of the distance to each Delaunay
 // neighbour in proportion to the exclusion radii (d_ij rho_i / (rho_i + rho_j)); the mean

@@ -116,6 +116,19 @@ TEST(GeneratePacking, SmallCylinderIn3D) {
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(m.fabric_eigenvalues[k], 1.0 / 3.0, 0.03);
 }
 
+// A 3D packing with exact contacts: no overlap or protrusion, r_max / r_min <= 10, fabric
+// 1/3 +- 0.03, every contact within the default 2 % tolerance.
+void ExpectCleanAndIsotropic(const Packing<3>& packing, const PackingMetrics<3>& m) {
+  EXPECT_EQ(m.overlapping_pairs, 0);
+  EXPECT_EQ(m.max_overlap, 0.0);
+  EXPECT_EQ(m.protruding_particles, 0);
+  EXPECT_EQ(m.max_protrusion, 0.0);
+  EXPECT_LE(m.radius_ratio, 10.0 + 1e-9);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(m.fabric_eigenvalues[k], 1.0 / 3.0, 0.03);
+  for (const auto& c : packing.contacts)
+    EXPECT_LE(std::abs(packing.Gap(c[0], c[1])), 0.02 * m.mean_radius * (1 + 1e-12));
+}
+
 // The 3D default compacts after the rounds (generator/compaction.h): on the same seed it is
 // denser than without, still without overlap or protrusion, and still isotropic.
 TEST(GeneratePacking, CompactionInASmallCylinderIsDenserAndClean) {
@@ -132,14 +145,39 @@ TEST(GeneratePacking, CompactionInASmallCylinderIsDenserAndClean) {
   const auto m0 = ComputePackingMetrics<3>(without);
   EXPECT_FALSE(with_summary.compactions.empty());
   EXPECT_LT(m.nominal_porosity, m0.nominal_porosity - 0.005) << with_summary.FullReport();
-  EXPECT_EQ(m.overlapping_pairs, 0);
-  EXPECT_LE(m.max_overlap, 0.02);
-  EXPECT_EQ(m.protruding_particles, 0);
-  EXPECT_EQ(m.max_protrusion, 0.0);
-  EXPECT_LE(m.radius_ratio, 10.0 + 1e-9);
-  for (int k = 0; k < 3; ++k) EXPECT_NEAR(m.fabric_eigenvalues[k], 1.0 / 3.0, 0.03);
-  for (const auto& c : with.contacts)
-    EXPECT_LE(std::abs(with.Gap(c[0], c[1])), 0.02 * m.mean_radius * (1 + 1e-12));
+  ExpectCleanAndIsotropic(with, m);
+}
+
+// The power-law preset (PowerLawGeneratorOptions): on the same count and seed it is denser
+// than the default, with a broader radius distribution, and as clean and isotropic.
+TEST(GeneratePacking, PowerLawPresetInASmallCylinderIsDenserAndClean) {
+  const auto cylinder = Domain<3>::Cylinder(0, 0, 0.5, 0, 1);
+  GeneratorOptions options = PowerLawGeneratorOptions<3>();
+  options.particle_count = 1500;
+  options.seed = 2;
+  GeneratorSummary summary;
+  const auto dense = GeneratePacking<3>(cylinder, options, &summary);
+  GeneratorOptions stienen = DefaultGeneratorOptions<3>();
+  stienen.particle_count = 1500;
+  stienen.seed = 2;
+  const auto narrow = GeneratePacking<3>(cylinder, stienen, nullptr);
+  const auto m = ComputePackingMetrics<3>(dense);
+  const auto m0 = ComputePackingMetrics<3>(narrow);
+  ASSERT_FALSE(summary.compactions.empty());
+  EXPECT_EQ(summary.compactions.front().round, 0);
+  EXPECT_NEAR(m.particle_count, 1500, 150) << summary.FullReport();
+  EXPECT_LT(m.nominal_porosity, m0.nominal_porosity - 0.03) << summary.FullReport();
+  EXPECT_LE(m.nominal_porosity, 0.33) << summary.FullReport();
+  EXPECT_GE(m.coordination_number, 5.5);
+  ExpectCleanAndIsotropic(dense, m);
+  // Broader: the relative spread of the radii (polydispersity).
+  auto polydispersity = [](const std::vector<double>& r) {
+    double mean = 0.0, square = 0.0;
+    for (double v : r) mean += v / r.size();
+    for (double v : r) square += (v - mean) * (v - mean) / r.size();
+    return std::sqrt(square) / mean;
+  };
+  EXPECT_GT(polydispersity(dense.radii), polydispersity(narrow.radii) + 0.1);
 }
 
 TEST(GeneratePacking, BadOptionsNameTheField) {
@@ -173,8 +211,11 @@ TEST(GeneratePacking, BadOptionsNameTheField) {
   using Setter = void (*)(GeneratorOptions&);
   const std::pair<Setter, std::string> compaction_cases[] = {
       {[](GeneratorOptions& o) { o.compaction_exponent = 0.1; }, "compaction_exponent"},
+      {[](GeneratorOptions& o) { o.node_size_exponent = 6.5; }, "node_size_exponent"},
+      {[](GeneratorOptions& o) { o.round_close_gap = -0.1; }, "round_close_gap"},
+      {[](GeneratorOptions& o) { o.compaction_round = -1; }, "compaction_round"},
       {[](GeneratorOptions& o) { o.compaction_close_gap = -0.01; }, "compaction_close_gap"},
-      {[](GeneratorOptions& o) { o.compaction_round = 0; }, "compaction_round"},
+      {[](GeneratorOptions& o) { o.compaction_round = 101; }, "compaction_round"},
       {[](GeneratorOptions& o) { o.compaction_rounds = 101; }, "compaction_rounds"}};
   for (const auto& [set, field] : compaction_cases) {
     GeneratorOptions bad;

@@ -71,6 +71,19 @@ TEST(GeneratePackingCommand, BadInputExitsWithTwoAndWritesNothing) {
       {"--domain \"rectangle 0 0 10 10\" --count 100 --contact-tolerance 0", "--contact-tolerance"},
       {"--domain \"box 0 0 0 1 1 1\" --count 100 --compaction maybe", "--compaction"},
       {"--domain \"box 0 0 0 1 1 1\" --count 100 --compaction-exponent 9", "--compaction-exponent"},
+      // The power-law preset and the settings it would ignore.
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --radius-distribution lognormal", "--radius-distribution"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --size-exponent 3", "--size-exponent"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --radius-distribution power-law --size-exponent 7",
+       "--size-exponent"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --radius-distribution power-law --size-exponent -1",
+       "--size-exponent"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --radius-distribution power-law --radius-factor 0.9 1.1",
+       "--radius-factor"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --radius-distribution power-law --compaction off",
+       "--compaction off"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --close-gap 0", "--close-gap"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --close-gap 0.6", "--close-gap"},
   };
   for (const Case& c : cases) {
     const fs::path dir = FreshDirectory("bad");
@@ -117,3 +130,15 @@ TEST(GeneratePackingCommand, MissingSizeIsReported) {
 }
 
 }  // namespace
+
+// The dense preset runs end to end from the command line and reports its radius bounds.
+TEST(GeneratePackingCommand, PowerLawPresetInABox) {
+  const fs::path dir = FreshDirectory("power_law");
+  const Result r = RunCommandLine("--domain \"box 0 0 0 1 1 1\" --count 600 --radius-distribution power-law "
+                                  "--close-gap 0.06 --quiet --no-pictures --output " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("compaction before round 0"), std::string::npos) << r.output;
+  const auto packing = specimen::LoadPacking<3>((dir / "packing.packing").string());
+  EXPECT_GT(packing.size(), 450);
+  fs::remove_all(dir);
+}
