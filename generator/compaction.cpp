@@ -135,7 +135,7 @@ CompactionSummary CompactPacking(const Domain<Dim>& domain, const CompactionOpti
   // packing; they meet at a jammed packing.
   const std::vector<Vector<Dim>> input = x;
   const double input_inner = inner_scale();
-  double outer = std::min(options.max_scale, std::max(1.0, input_inner) * (1.0 + options.initial_growth));
+  double outer = std::max(1.0, input_inner) * (1.0 + options.initial_growth);
   double inner = input_inner;
   // Where the current contraction started: a run that meets the inner scale before the
   // outer one has come down half way was not jammed, and is inflated again.
@@ -146,9 +146,7 @@ CompactionSummary CompactPacking(const Domain<Dim>& domain, const CompactionOpti
     inner = inner_scale();
     if (inner >= outer || outer - inner < options.tolerance * inner) {
       if (outer_start - outer >= 0.5 * (outer_start - inner_start)) break;  // jammed
-      if (outer >= options.max_scale) break;  // as large as allowed
-      outer = outer_start =
-          std::min(options.max_scale, std::max(outer, inner) * (1.0 + options.initial_growth));
+      outer = outer_start = std::max(outer, inner) * (1.0 + options.initial_growth);
       inner_start = inner;
       continue;
     }

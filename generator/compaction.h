@@ -43,9 +43,6 @@ struct CompactionOptions {
   double tolerance = 1e-4;
   // Sweep budget of the schedule (bounds the run time).
   int max_sweeps = 4000;
-  // Largest common radius factor allowed (e.g. r_max / largest radius): the schedule stops
-  // there even if the packing is not jammed yet.
-  double max_scale = 1e300;
   // Verlet skin of the candidate pairs, relative to length_scale.
   double skin = 1.0;
 };

@@ -60,7 +60,10 @@ constexpr double kRadiusCentre = Dim == 2 ? 0.8 : 0.85;
 template <int Dim>
 double LargestToMeanSize(double spread, double exponent) {
   if (spread <= 1.0 + 1e-12) return 1.0;
-  return spread / std::pow(PowerLawMoment(spread, exponent, Dim), 1.0 / Dim);
+  // Log-uniform in closed form (bit for bit what earlier versions computed).
+  const double moment = exponent == 1.0 ? (std::pow(spread, Dim) - 1.0) / (Dim * std::log(spread))
+                                        : PowerLawMoment(spread, exponent, Dim);
+  return spread / std::pow(moment, 1.0 / Dim);
 }
 
 template <int Dim>
@@ -353,6 +356,15 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
   GeneratorSummary& s = summary ? *summary : local_summary;
   s = GeneratorSummary();
   s.dimension_and_domain = std::to_string(Dim) + "D " + domain.ToShortText();
+  {
+    char text[160];
+    std::snprintf(text, sizeof(text), "%s, node sizes ~ s^-%g over a spread of %g",
+                  options.initial_radii == GeneratorOptions::InitialRadii::kNodeSpheres
+                      ? "node spheres as radii (power law)"
+                      : "Stienen radii",
+                  options.node_size_exponent, options.node_size_spread);
+    s.radius_distribution = text;
+  }
   const auto start = Clock::now();
   auto report = [&](double fraction, const std::string& message) {
     if (options.progress) options.progress(fraction, message);
@@ -388,7 +400,7 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
       node_spheres
           // The node sizes themselves, widened evenly (in log scale) to the radius ratio.
           ? largest_node_size * std::sqrt(options.radius_ratio / options.node_size_spread)
-          : kRadiusCentre<Dim> * largest_node_size / std::sqrt(options.node_size_spread) *
+          : kRadiusCentre<Dim> * (largest_node_size / std::sqrt(options.node_size_spread)) *
                 std::sqrt(options.radius_ratio);
   const double radius_min = radius_max / options.radius_ratio;
   s.radius_min_bound = radius_min;
@@ -453,8 +465,6 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
     CompactionOptions compaction;
     compaction.length_scale = expected_mean_radius;
     compaction.exponent = options.compaction_exponent;
-    // The largest particle may grow to r_max, no further.
-    compaction.max_scale = radius_max / *std::max_element(r.begin(), r.end());
     GeneratorSummary::Compaction record;
     record.round = round;
     record.porosity_before = NominalPorosity<Dim>(domain, r);
@@ -634,7 +644,7 @@ std::string GeneratorSummary::FullReport() const {
                 "  radius bounds [%.6g, %.6g]\n",
                 particles_requested, nodes_placed, particles_final, radius_min_bound,
                 radius_max_bound);
-  out << line;
+  out << line << "  radii: " << radius_distribution << "\n";
   out << "  round  particles  free     edges   exact  LM it  cost start -> end        max ovl  max prot"
          "  porosity  nc     removed  added  time [s]\n";
   for (const auto& r : rounds) {
@@ -672,6 +682,7 @@ nlohmann::json GeneratorSummary::ToJson() const {
   j["nodes_placed"] = nodes_placed;
   j["particles_final"] = particles_final;
   j["radius_bounds"] = {radius_min_bound, radius_max_bound};
+  j["radius_distribution"] = radius_distribution;
   for (const auto& r : rounds) {
     j["rounds"].push_back({{"round", r.round},
                            {"particles", r.particles},

@@ -163,6 +163,8 @@ struct GeneratorTracePoint {
 
 struct GeneratorSummary {
   std::string dimension_and_domain;
+  // How the radii were drawn, e.g. "Stienen radii, node sizes ~ s^-1 over a spread of 3".
+  std::string radius_distribution;
   int particles_requested = 0;
   int nodes_placed = 0;
   int particles_final = 0;

@@ -72,27 +72,6 @@ TEST(Compaction, LooseRandomSpheresJamWithoutOverlap) {
   EXPECT_LT(fraction, 0.66);
 }
 
-// The common factor stops at max_scale (the generator's r_max) even if not jammed there.
-TEST(Compaction, GrowthStopsAtTheLargestAllowedScale) {
-  const auto box = Domain<3>::Box(Vector<3>(0, 0, 0), Vector<3>(6, 6, 6));
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> position(0.5, 5.5);
-  std::vector<Vector<3>> x;
-  std::vector<double> r;
-  for (int i = 0; i < 40; ++i) {
-    x.emplace_back(position(rng), position(rng), position(rng));
-    r.push_back(0.2);
-  }
-  CompactionOptions options;
-  options.length_scale = 0.2;
-  options.max_scale = 1.05;
-  const CompactionSummary summary = CompactPacking<3>(box, options, x, r);
-  EXPECT_LE(summary.growth_factor, 1.05 * (1 + 1e-12));
-  EXPECT_GT(summary.growth_factor, 1.0);
-  for (double radius : r) EXPECT_LE(radius, 0.2 * 1.05 * (1 + 1e-12));
-  EXPECT_GE(SmallestClearance<3>(box, x, r), -1e-12);
-}
-
 // A packing that cannot grow (touching discs of a hexagonal lattice, pinned by the walls
 // of a tight rectangle along x) is returned unchanged.
 TEST(Compaction, JammedInputIsKept) {

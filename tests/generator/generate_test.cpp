@@ -165,6 +165,8 @@ TEST(GeneratePacking, PowerLawPresetInASmallCylinderIsDenserAndClean) {
   const auto m0 = ComputePackingMetrics<3>(narrow);
   ASSERT_FALSE(summary.compactions.empty());
   EXPECT_EQ(summary.compactions.front().round, 0);
+  EXPECT_NE(summary.radius_distribution.find("power law"), std::string::npos);
+  EXPECT_NE(summary.FullReport().find("s^-3.5 over a spread of 8"), std::string::npos) << summary.FullReport();
   EXPECT_NEAR(m.particle_count, 1500, 150) << summary.FullReport();
   EXPECT_LT(m.nominal_porosity, m0.nominal_porosity - 0.03) << summary.FullReport();
   EXPECT_LE(m.nominal_porosity, 0.33) << summary.FullReport();
