@@ -268,8 +268,8 @@ GeneratorOptions PowerLawGeneratorOptions(double radius_ratio) {
   options.compaction_round = 0;
   options.compaction_rounds = 1;
   // Round 0 starts from the jammed packing: it may close every pair up to half a mean
-  // radius (measured on 5,000 spheres, exponent 3: 0.08 gives porosity 30.4 %, nc 5.5; 0.5 gives 27.8 %,
-  // nc 6.2).
+  // radius (measured on 5,000 spheres, exponent 3: 0.08 gives porosity 30.4 %, nc 5.5; 0.5 gives 27.5 %,
+  // nc 6.5).
   options.compaction_close_gap = 0.5;
   options.max_rounds = 6;
   return options;

@@ -83,8 +83,8 @@ struct GeneratorOptions {
   // this (relative to the mean radius) and drop the others (Labra's fix of defect (a)).
   // 0 = half the contact tolerance (the default). Larger values close more near-contacts
   // (higher nc) but leave conflicts that every round then re-solves in full (measured with
-  // the power-law preset, 30k spheres: 0.06 gives nc 7.7 against 6.85, in 179 s against
-  // 95 s). In [0, 0.5].
+  // the power-law preset, 30k spheres: 0.06 gives nc 7.69 against 6.88, in 1.77x the
+  // time: README, generator benchmark). In [0, 0.5].
   double round_close_gap = 0.0;
   // Share of (Dim + 1) N constraints selected as exact contacts in each round: with radii
   // free, (Dim + 1) constraints per particle fix it (2D: the triangulation, 6 contacts).

@@ -217,8 +217,8 @@ int main(int argc, char** argv) {
   app.add_option("--close-gap", cl.close_gap,
                  "rounds after the first close the pairs left open by up to this (relative to "
                  "the mean radius) and drop the others, in (0, 0.5]; default half the contact "
-                 "tolerance. Larger: more contacts, slower (power-law 3D, 0.06: nc 7.7 against "
-                 "6.85, 1.9x the time)");
+                 "tolerance. Larger: more contacts, slower (power-law 3D, 0.06: nc 7.69 against "
+                 "6.88, 1.77x the time)");
   app.add_option("--compaction", cl.compaction,
                  "force-biased compaction (growth of all radii while overlaps are pushed apart) "
                  "at the start of round 3 (round 0 with power-law): on | off; default off (2D), on "
