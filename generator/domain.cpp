@@ -448,8 +448,10 @@ Domain<Dim> Domain<Dim>::Parse(const std::string& text) {
   while (in >> token) {
     char* end = nullptr;
     const double v = std::strtod(token.c_str(), &end);
-    if (end == token.c_str() || *end != '\0')
-      throw InputError("domain '" + text + "': '" + token + "' is not a number");
+    // Decimal only: strtod would also take hexadecimal ("0x10"), "inf" and "nan".
+    const bool decimal = token.find_first_not_of("0123456789+-.eE") == std::string::npos;
+    if (end == token.c_str() || *end != '\0' || !decimal || !std::isfinite(v))
+      throw InputError("domain '" + text + "': '" + token + "' is not a finite decimal number");
     values.push_back(v);
   }
   auto expect = [&](size_t count) {

@@ -47,6 +47,7 @@ struct CommandLine {
   std::optional<double> overlap_tolerance;
   std::optional<int> max_rounds;
   std::optional<double> close_gap;
+  std::optional<double> exact_pairs;
   long long seed = 1;
   int threads = 2;
   PackingOutputOptions output;
@@ -70,6 +71,7 @@ const FieldNames kOptionNames = {
     {"overlap_tolerance", "--overlap-tolerance"},
     {"max_rounds", "--max-rounds"},
     {"round_close_gap", "--close-gap"},
+    {"constraint_fraction", "--exact-pairs"},
     {"num_threads", "--threads"},
     {"compaction_exponent", "--compaction-exponent"},
     {"compaction_rounds", "--compaction-rounds"},
@@ -135,6 +137,7 @@ int Run(const CommandLine& cl) {
                        " is not allowed: it must be in (0, 0.5] (relative to the mean radius)");
     options.round_close_gap = *cl.close_gap;
   }
+  if (cl.exact_pairs) options.constraint_fraction = *cl.exact_pairs;
   if (cl.seed < 0)
     throw InputError("--seed = " + std::to_string(cl.seed) + " is not allowed: it must be >= 0");
   options.seed = static_cast<std::uint64_t>(cl.seed);
@@ -219,6 +222,10 @@ int main(int argc, char** argv) {
                  "the mean radius) and drop the others, in (0, 0.5]; default half the contact "
                  "tolerance. Larger: more contacts, slower (power-law 3D, 0.06: nc 7.69 against "
                  "6.88, 1.77x the time)");
+  app.add_option("--exact-pairs", cl.exact_pairs,
+                 "pairs solved as exact contacts in each round, as a share of (D+1) N (with free "
+                 "radii D+1 contacts fix a particle), in (0, 2]; default 1. Above 1 the rounds "
+                 "settle on a least-squares compromise (use with --keep-overlaps)");
   app.add_option("--compaction", cl.compaction,
                  "force-biased compaction (growth of all radii while overlaps are pushed apart) "
                  "at the start of round 3 (round 0 with power-law): on | off; default off (2D), on "

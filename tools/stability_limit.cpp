@@ -140,8 +140,11 @@ int Run(const CommandLine& cl) {
     values.wall_sides = sides;
   }
   if (cl.margin_percent) values.time_step_margin = *cl.margin_percent / 100.0;
-  if (!cl.parameters.empty())
-    values = MergeStabilityParameters(values, LoadStabilityParameters(cl.parameters));
+  StabilityParameters file_values;
+  if (!cl.parameters.empty()) {
+    file_values = LoadStabilityParameters(cl.parameters);
+    values = MergeStabilityParameters(values, file_values);
+  }
   if (!cl.sweep.empty() && cl.sweep != "nu_p")
     throw InputError("--sweep '" + cl.sweep + "' is not allowed: the only sweep is nu_p");
   // Settings that would be silently ignored: say so instead.
@@ -163,6 +166,19 @@ int Run(const CommandLine& cl) {
   SceneOptions<Dim> scene = StabilitySceneOf<Dim>(values, packing);
   scene.num_threads = cl.threads > 0 ? cl.threads : IdleCores();
   StabilityOptions options = StabilityOptionsOf(values);
+  if (!cl.parameters.empty()) {
+    // The set in use is valid; a bad value in the file is still reported where an option
+    // overrides it: the file is checked with its own values first (options only fill what
+    // it leaves out).
+    const StabilityParameters file_first = MergeStabilityParameters(file_values, values);
+    try {
+      StabilitySceneOf<Dim>(file_first, packing);
+      StabilityOptionsOf(file_first);
+    } catch (const InputError& e) {
+      throw InputError(cl.parameters + ": " + e.what() + " (overridden on the command line, "
+                       "but the file is wrong)");
+    }
+  }
   if (cl.failure_probability) options.lanczos.failure_probability = *cl.failure_probability;
   if (cl.tolerance_percent) options.lanczos.relative_tolerance = *cl.tolerance_percent / 100.0;
   if (!cl.sweep.empty())

@@ -99,6 +99,12 @@ TEST(Domain, BadInputNamesTheField) {
   EXPECT_THROW(Domain<3>::Parse("rectangle 0 0 1 1"), InputError);
   EXPECT_THROW(Domain<2>::Parse("rectangle 0 0 1"), InputError);
   EXPECT_THROW(Domain<2>::Parse("rectangle 0 0 1 x"), InputError);
+  // Decimal numbers only: no hexadecimal, no infinity, no NaN.
+  EXPECT_THROW(Domain<2>::Parse("rectangle 0 0 0x10 1"), InputError);
+  EXPECT_THROW(Domain<2>::Parse("rectangle 0 0 0x1p3 1"), InputError);
+  EXPECT_THROW(Domain<3>::Parse("cylinder 0 0 inf 0 1"), InputError);
+  EXPECT_THROW(Domain<3>::Parse("box 0 0 0 1 nan 1"), InputError);
+  EXPECT_NO_THROW(Domain<2>::Parse("rectangle -1.5e-3 0 +2E-3 1."));
   EXPECT_THROW(Domain<2>::Parse("polygon -1 0 0"), InputError);
   EXPECT_THROW(Domain<2>::Parse("polygon 2.5 0 0 1 0 1 1"), InputError);
 }

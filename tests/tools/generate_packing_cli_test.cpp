@@ -84,6 +84,8 @@ TEST(GeneratePackingCommand, BadInputExitsWithTwoAndWritesNothing) {
        "--compaction off"},
       {"--domain \"box 0 0 0 1 1 1\" --count 100 --close-gap 0", "--close-gap"},
       {"--domain \"box 0 0 0 1 1 1\" --count 100 --close-gap 0.6", "--close-gap"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --exact-pairs 0", "--exact-pairs"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --exact-pairs 2.5", "--exact-pairs"},
   };
   for (const Case& c : cases) {
     const fs::path dir = FreshDirectory("bad");

@@ -178,6 +178,9 @@ TEST_F(StabilityLimitCommand, FourthSampleRunWithWalls) {
 TEST_F(StabilityLimitCommand, BadInputExitsWithTwoAndWritesNothing) {
   const fs::path bad_toml = fs::temp_directory_path() / "specimen_stability_bad.toml";
   std::ofstream(bad_toml) << "[material]\nnormal_stiffness = 7e10\nstiffness = 3\n";
+  const fs::path bad_value_toml = fs::temp_directory_path() / "specimen_stability_bad_value.toml";
+  std::ofstream(bad_value_toml) << "[material]\nnormal_stiffness = 7e10\ndensity = 2000\n"
+                                   "[time_step]\nsafety_factor = 1.5\n";
   struct Case {
     std::string arguments;
     std::string must_mention;
@@ -207,6 +210,9 @@ TEST_F(StabilityLimitCommand, BadInputExitsWithTwoAndWritesNothing) {
       {"--kn 7e10 --density 2000 --sweep E", "--sweep 'E'"},
       {"--kn 7e10 --density 2000 --sweep nu_p --sweep-values 0.2,0.7", "sweep nu_p = 0.7"},
       {"--parameters " + bad_toml.string() + " --density 2000", "unknown key 'stiffness'"},
+      // A bad value in the file is reported even when an option overrides it.
+      {"--parameters " + bad_value_toml.string() + " --safety 0.9",
+       bad_value_toml.string() + ": safety_factor (--safety, [time_step] safety_factor) = 1.5"},
   };
   for (const Case& c : cases) {
     const fs::path dir = FreshDirectory("bad");
