@@ -268,8 +268,8 @@ GeneratorOptions PowerLawGeneratorOptions(double radius_ratio) {
   options.compaction_round = 0;
   options.compaction_rounds = 1;
   // Round 0 starts from the jammed packing: it may close every pair up to half a mean
-  // radius (measured on 5,000 spheres, exponent 3: 0.08 gives porosity 30.4 %, nc 5.5; 0.5 gives 27.5 %,
-  // nc 6.5).
+  // radius (measured on 5,000 spheres, exponent 3: 0.08 gives porosity 30.4 %, nc 5.5;
+  // 0.5 gives 27.5 %, nc 6.5).
   options.compaction_close_gap = 0.5;
   options.max_rounds = 6;
   return options;
@@ -394,7 +394,8 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
   // the log-centre of the node sizes, times kRadiusCentre (measured: the radii of a
   // triangulated 2D packing of equal nodes spread over [0.34, 1.82] r_mean, log-centre 0.79).
   const double largest_node_size =
-      expected_mean_radius * LargestToMeanSize<Dim>(options.node_size_spread, options.node_size_exponent);
+      expected_mean_radius *
+      LargestToMeanSize<Dim>(options.node_size_spread, options.node_size_exponent);
   const bool node_spheres = options.initial_radii == GeneratorOptions::InitialRadii::kNodeSpheres;
   const double radius_max =
       node_spheres
@@ -416,7 +417,8 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
       node_spheres ? kExpectedInsertionShareNodeSpheres<Dim> : kExpectedInsertionShare<Dim>;
   const int node_count = static_cast<int>(std::lround(count / (1.0 + insertion_share)));
   const NodeSet<Dim> nodes = RandomSequentialNodes<Dim>(
-      domain, node_count, options.node_size_spread, options.node_size_exponent, kNodeFillFraction<Dim>, kNodeAttempts, rng);
+      domain, node_count, options.node_size_spread, options.node_size_exponent,
+      kNodeFillFraction<Dim>, kNodeAttempts, rng);
   std::vector<Vector<Dim>> x = nodes.positions;
   std::vector<double> r;
   if (node_spheres) {

@@ -92,9 +92,8 @@ struct GeneratorOptions {
 
   // Compaction (generator/compaction.h): rounds compaction_round ..
   // compaction_round + compaction_rounds - 1 (round 0: the initial packing) start with a
-  // force-biased compaction of the
-  // packing (all radii grow by one factor while overlapping pairs are pushed apart, until
-  // jammed), and their least-squares solve then closes the pairs left open by at most
+  // force-biased compaction of the packing (all radii grow by one factor while overlapping
+  // pairs are pushed apart, until jammed), and their least-squares solve then closes the pairs left open by at most
   // compaction_close_gap (relative to the mean radius) instead of half the contact
   // tolerance. If max_rounds ends before compaction_round, the packing is compacted once
   // after the rounds. Off by default in 2D (the rounds reach 9.2 % there), on in 3D.

@@ -4,11 +4,13 @@
 //
 // Nodes. Labra takes the interior nodes of a randomly perturbed finite-element mesh. We
 // place nodes by random sequential addition (RSA) of exclusion spheres whose sizes are
-// drawn log-uniformly over a spread (largest first): like a graded unstructured mesh,
-// node spacing varies locally, but no lattice exists to survive into the packing, and
-// the variation is what lets the densification reach low porosity (measured: a uniform
-// Poisson-disc node set gives about 36 % porosity in 3D after densification, a spread
-// of 6 about 29 %; see README, generator notes). Deterministic for a given seed.
+// drawn over a spread (largest first), log-uniformly by default or from a power law: like
+// a graded unstructured mesh, node spacing varies locally, but no lattice exists to
+// survive into the packing. The size distribution is what bounds the density in 3D
+// (measured, 30k spheres in the unit cylinder: Stienen radii on log-uniform nodes over a
+// spread of 3 end at 34.1 %; the node spheres of a power law s^-3.5 over a spread of 8
+// taken as the radii, at 26.3 %; README, generator benchmark). Deterministic for a given
+// seed.
 
 #include <random>
 #include <vector>
@@ -24,9 +26,9 @@ struct NodeSet {
 };
 
 // Random sequential addition of `target_count` exclusion spheres with radii distributed
-// over [a, a * size_spread] with number density ~ s^-size_exponent (1: log-uniform; 3:
-// equal volume per size decade... see NodeSizeMoment), `a` chosen so that they would fill `fill_fraction` of the
-// domain; each sphere lies inside the domain and overlaps no other. Spheres that find no
+// over [a, a * size_spread] with number density ~ s^-size_exponent (1: log-uniform; 4 in
+// 3D: equal solid volume per size decade), `a` chosen so that they would fill
+// `fill_fraction` of the domain; each sphere lies inside the domain and overlaps no other. Spheres that find no
 // place within `attempts_per_node` trials are dropped, so the result may hold slightly
 // fewer nodes than asked.
 template <int Dim>
