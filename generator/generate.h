@@ -83,8 +83,8 @@ struct GeneratorOptions {
   // this (relative to the mean radius) and drop the others (Labra's fix of defect (a)).
   // 0 = half the contact tolerance (the default). Larger values close more near-contacts
   // (higher nc) but leave conflicts that every round then re-solves in full (measured with
-  // the power-law preset, 30k spheres: 0.06 gives nc 7.69 against 6.88, in 1.77x the
-  // time: README, generator benchmark). In [0, 0.5].
+  // the power-law preset, 30k spheres: 0.06 gives nc 7.69 against 6.88 with 0.01, and the
+  // preset uses it; README, generator benchmark). In [0, 0.5].
   double round_close_gap = 0.0;
   // Share of (Dim + 1) N constraints selected as exact contacts in each round: with radii
   // free, (Dim + 1) constraints per particle fix it (2D: the triangulation, 6 contacts).
@@ -125,11 +125,12 @@ GeneratorOptions DefaultGeneratorOptions();
 
 // The dense preset (generate-packing --radius-distribution power-law), for 3D above all:
 // node sizes with number density ~ s^-3.5 over a spread of radius_ratio / 1.25 become the
-// radii (InitialRadii::kNodeSpheres), a compaction jams them before round 0, and round 0
-// closes the pairs left open by up to half a mean radius. A broad, skewed distribution
-// packs denser than the narrow one Stienen radii give (measured, 30k spheres in the unit
-// cylinder: porosity 26 % against 34 %, nc unchanged; README, generator benchmark). The
-// radius bounds are then [smallest, largest] node size widened to radius_ratio.
+// radii (InitialRadii::kNodeSpheres), a compaction jams them before round 0, round 0
+// closes the pairs left open by up to half a mean radius and later rounds those open by up
+// to 6 % of it (at most 25 iterations each). A broad, skewed distribution packs denser than
+// the narrow one Stienen radii give (measured, 30k spheres in the unit cylinder: porosity
+// 26.1 % against 34.1 %, nc 7.69 against 6.91, 103 s against 117 s; README, generator
+// benchmark). The radius bounds are [smallest, largest] node size widened to radius_ratio.
 template <int Dim>
 GeneratorOptions PowerLawGeneratorOptions(double radius_ratio = 10.0);
 

@@ -137,7 +137,7 @@ TEST(GeneratePackingCommand, MissingSizeIsReported) {
 TEST(GeneratePackingCommand, PowerLawPresetInABox) {
   const fs::path dir = FreshDirectory("power_law");
   const Result r = RunCommandLine("--domain \"box 0 0 0 1 1 1\" --count 600 --radius-distribution power-law "
-                                  "--close-gap 0.06 --quiet --no-pictures --output " + dir.string());
+                                  "--quiet --no-pictures --output " + dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("compaction before round 0"), std::string::npos) << r.output;
   const auto packing = specimen::LoadPacking<3>((dir / "packing.packing").string());
