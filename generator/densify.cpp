@@ -31,6 +31,38 @@ double EdgeResidual(const double* a, const double* b, double length_scale, doubl
 }
 
 template <int Dim>
+double BandEdgeResidual(const double* a, const double* b, double length_scale, double band_overlap,
+                        double band_gap, double overlap_weight, bool one_sided, double* jacobian_a,
+                        double* jacobian_b) {
+  double distance_squared = 0.0;
+  for (int k = 0; k < Dim; ++k) distance_squared += (a[k] - b[k]) * (a[k] - b[k]);
+  const double distance = std::sqrt(distance_squared);
+  const double gap = distance - a[Dim] - b[Dim];
+  // Excess outside the band, weighted as the squared form weights overlaps.
+  double excess = 0.0, weight = 0.0;
+  if (gap < -band_overlap) {
+    excess = gap + band_overlap;
+    weight = overlap_weight;
+  } else if (gap > band_gap && !one_sided) {
+    excess = gap - band_gap;
+    weight = 1.0;
+  }
+  const double scale = weight / length_scale;
+  if (jacobian_a != nullptr || jacobian_b != nullptr) {
+    // d gap / d x_a = (x_a - x_b) / |x_a - x_b|, d gap / d r = -1.
+    const double inverse = distance > 0.0 ? scale / distance : 0.0;
+    for (int k = 0; k < Dim; ++k) {
+      const double g = (a[k] - b[k]) * inverse;
+      if (jacobian_a) jacobian_a[k] = g;
+      if (jacobian_b) jacobian_b[k] = -g;
+    }
+    if (jacobian_a) jacobian_a[Dim] = -scale;
+    if (jacobian_b) jacobian_b[Dim] = -scale;
+  }
+  return excess * scale;
+}
+
+template <int Dim>
 double BoundaryResidual(const Domain<Dim>& domain, const BoundaryFacet<Dim>& facet,
                         const double* particle, double length_scale, double protrusion_weight,
                         bool one_sided, double* jacobian) {
@@ -65,6 +97,32 @@ class EdgeCost final : public ceres::SizedCostFunction<1, Dim + 1, Dim + 1> {
 
  private:
   double length_scale_;
+  double overlap_weight_;
+  bool one_sided_;
+};
+
+template <int Dim>
+class BandEdgeCost final : public ceres::SizedCostFunction<1, Dim + 1, Dim + 1> {
+ public:
+  BandEdgeCost(const LevenbergMarquardtOptions& options, bool one_sided)
+      : length_scale_(options.length_scale),
+        band_overlap_(options.band_overlap),
+        band_gap_(options.band_gap),
+        overlap_weight_(options.overlap_weight),
+        one_sided_(one_sided) {}
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    residuals[0] = BandEdgeResidual<Dim>(parameters[0], parameters[1], length_scale_,
+                                         band_overlap_, band_gap_, overlap_weight_, one_sided_,
+                                         jacobians ? jacobians[0] : nullptr,
+                                         jacobians ? jacobians[1] : nullptr);
+    return true;
+  }
+
+ private:
+  double length_scale_;
+  double band_overlap_;
+  double band_gap_;
   double overlap_weight_;
   bool one_sided_;
 };
@@ -179,15 +237,18 @@ LevenbergMarquardtSummary SolveLevenbergMarquardt(const Domain<Dim>& domain,
     problem.SetParameterBlockConstant(&parameters[i * (Dim + 1)]);
     in_problem[i] = 2;
   };
+  const bool banded = options.band_gap > 0.0;  // the residual form, chosen once per solve
   for (size_t k = 0; k < graph.edges.size(); ++k) {
     const auto& e = graph.edges[k];
     if (!is_free(e[0]) && !is_free(e[1])) continue;
     hold(e[0]);
     hold(e[1]);
     const bool one_sided = !options.edge_one_sided.empty() && options.edge_one_sided[k];
-    problem.AddResidualBlock(
-        new EdgeCost<Dim>(options.length_scale, options.overlap_weight, one_sided), nullptr,
-        &parameters[e[0] * (Dim + 1)], &parameters[e[1] * (Dim + 1)]);
+    ceres::CostFunction* cost =
+        banded ? static_cast<ceres::CostFunction*>(new BandEdgeCost<Dim>(options, one_sided))
+               : new EdgeCost<Dim>(options.length_scale, options.overlap_weight, one_sided);
+    problem.AddResidualBlock(cost, nullptr, &parameters[e[0] * (Dim + 1)],
+                             &parameters[e[1] * (Dim + 1)]);
   }
   for (size_t k = 0; k < graph.boundary_ties.size(); ++k) {
     const auto& tie = graph.boundary_ties[k];
@@ -258,6 +319,10 @@ template double EdgeResidual<2>(const double*, const double*, double, double, bo
                                 double*);
 template double EdgeResidual<3>(const double*, const double*, double, double, bool, double*,
                                 double*);
+template double BandEdgeResidual<2>(const double*, const double*, double, double, double, double,
+                                    bool, double*, double*);
+template double BandEdgeResidual<3>(const double*, const double*, double, double, double, double,
+                                    bool, double*, double*);
 template double BoundaryResidual<2>(const Domain<2>&, const BoundaryFacet<2>&, const double*,
                                     double, double, bool, double*);
 template double BoundaryResidual<3>(const Domain<3>&, const BoundaryFacet<3>&, const double*,

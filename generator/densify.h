@@ -56,6 +56,13 @@ struct LevenbergMarquardtOptions {
   // Use conjugate gradients on the normal equations (inexact steps) instead of sparse
   // Cholesky; cheaper per iteration on large 3D problems.
   bool iterative_linear_solver = false;
+  // Banded edges (the contact band stage of generate.h) when band_gap > 0: the residual of
+  // an edge is the part of its gap (|xi - xj| - ri - rj, absolute) outside
+  // [-band_overlap, band_gap] for a two-sided edge, below -band_overlap for a one-sided one.
+  // These are inequalities, not equalities: more than (Dim + 1) N pairs can sit in the band
+  // at once, which exact contacts with free radii cannot (README, the rigidity bound).
+  double band_overlap = 0.0;
+  double band_gap = 0.0;
 };
 
 struct LevenbergMarquardtSummary {
@@ -80,6 +87,10 @@ LevenbergMarquardtSummary SolveLevenbergMarquardt(const Domain<Dim>& domain,
 template <int Dim>
 double EdgeResidual(const double* particle_i, const double* particle_j, double length_scale,
                     double overlap_weight, bool one_sided, double* jacobian_i, double* jacobian_j);
+template <int Dim>
+double BandEdgeResidual(const double* particle_i, const double* particle_j, double length_scale,
+                        double band_overlap, double band_gap, double overlap_weight,
+                        bool one_sided, double* jacobian_i, double* jacobian_j);
 template <int Dim>
 double BoundaryResidual(const Domain<Dim>& domain, const BoundaryFacet<Dim>& facet,
                         const double* particle, double length_scale, double protrusion_weight,

@@ -12,6 +12,7 @@
 
 #include "common/error.h"
 #include "generator/compaction.h"
+#include "generator/contact_band.h"
 #include "generator/contact_graph.h"
 #include "generator/densify.h"
 #include "generator/hole_filling.h"
@@ -50,6 +51,7 @@ constexpr double kCountSlack = 1.03;
 // Rings of neighbours around a defect that a repair round lets move.
 constexpr int kRepairRings = 2;
 
+
 // Log-centre of the final radii relative to that of the node sizes (see the bounds below).
 template <int Dim>
 constexpr double kRadiusCentre = Dim == 2 ? 0.8 : 0.85;
@@ -66,11 +68,6 @@ double LargestToMeanSize(double spread, double exponent) {
   return spread / std::pow(moment, 1.0 / Dim);
 }
 
-template <int Dim>
-double Gap(const std::vector<Vector<Dim>>& x, const std::vector<double>& r, int i, int j) {
-  return (x[i] - x[j]).norm() - r[i] - r[j];
-}
-
 // State of the packing measured on a contact graph (used after every round).
 template <int Dim>
 struct RoundState {
@@ -85,7 +82,7 @@ RoundState<Dim> Measure(const Domain<Dim>& domain, const ContactGraph<Dim>& grap
                         double contact_limit) {
   RoundState<Dim> state;
   for (const auto& e : graph.edges) {
-    const double gap = Gap<Dim>(x, r, e[0], e[1]);
+    const double gap = PairGap<Dim>(x, r, e[0], e[1]);
     state.max_overlap = std::max(state.max_overlap, -gap);
     if (std::abs(gap) <= contact_limit) ++state.contacts;
   }
@@ -111,7 +108,7 @@ void SelectExactConstraints(const Domain<Dim>& domain, const ContactGraph<Dim>& 
   candidates.reserve(graph.edges.size() + graph.boundary_ties.size());
   for (size_t k = 0; k < graph.edges.size(); ++k) {
     const auto& e = graph.edges[k];
-    const double gap = Gap<Dim>(x, r, e[0], e[1]);
+    const double gap = PairGap<Dim>(x, r, e[0], e[1]);
     if (gap > gap_limit) continue;
     candidates.push_back({gap / (r[e[0]] + r[e[1]]), true, static_cast<int>(k)});
   }
@@ -136,26 +133,6 @@ void SelectExactConstraints(const Domain<Dim>& domain, const ContactGraph<Dim>& 
   }
 }
 
-// Removes the particles flagged in `remove`, keeping the order of the others; `marks`
-// (per-particle flags) are compacted alongside.
-template <int Dim>
-int RemoveParticles(const std::vector<char>& remove, std::vector<Vector<Dim>>& x,
-                    std::vector<double>& r, std::vector<char>* marks = nullptr) {
-  size_t kept = 0;
-  for (size_t i = 0; i < x.size(); ++i) {
-    if (remove[i]) continue;
-    x[kept] = x[i];
-    r[kept] = r[i];
-    if (marks) (*marks)[kept] = (*marks)[i];
-    ++kept;
-  }
-  const int removed = static_cast<int>(x.size() - kept);
-  x.resize(kept);
-  r.resize(kept);
-  if (marks) marks->resize(kept);
-  return removed;
-}
-
 // After a round: a pair still overlapping by more than `conflict_limit` is folded over
 // itself; a particle held at r_min that still overlaps by more than `fit_limit` sits in a
 // hole smaller than r_min. Neither can be mended by another least-squares round: the
@@ -166,7 +143,7 @@ std::vector<char> FindConflicts(const ContactGraph<Dim>& graph, double radius_mi
                                 const std::vector<Vector<Dim>>& x, const std::vector<double>& r) {
   std::vector<char> remove(x.size(), 0);
   for (const auto& e : graph.edges) {
-    const double gap = Gap<Dim>(x, r, e[0], e[1]);
+    const double gap = PairGap<Dim>(x, r, e[0], e[1]);
     if (gap >= -fit_limit) continue;
     const int smaller = r[e[0]] < r[e[1]] || (r[e[0]] == r[e[1]] && e[0] > e[1]) ? e[0] : e[1];
     if (gap < -conflict_limit || r[smaller] <= radius_min * (1.0 + 1e-9)) remove[smaller] = 1;
@@ -182,7 +159,7 @@ std::vector<char> RepairRegion(const Domain<Dim>& domain, const ContactGraph<Dim
                                const std::vector<Vector<Dim>>& x, const std::vector<double>& r,
                                double limit, std::vector<char> seeds, int rings, int* count) {
   for (const auto& e : graph.edges)
-    if (Gap<Dim>(x, r, e[0], e[1]) < -limit) seeds[e[0]] = seeds[e[1]] = 1;
+    if (PairGap<Dim>(x, r, e[0], e[1]) < -limit) seeds[e[0]] = seeds[e[1]] = 1;
   for (size_t i = 0; i < x.size(); ++i)
     if (r[i] - domain.SignedDistance(x[i]) > limit) seeds[i] = 1;
   for (int ring = 0; ring < rings; ++ring) {
@@ -210,7 +187,7 @@ double ProjectToNonOverlapping(const Domain<Dim>& domain, double radius_min, dou
     std::vector<double> shrink(x.size(), 0.0);
     bool any = false;
     for (const auto& e : graph.edges) {
-      const double excess = -Gap<Dim>(x, r, e[0], e[1]) - allowed_overlap;
+      const double excess = -PairGap<Dim>(x, r, e[0], e[1]) - allowed_overlap;
       if (excess <= 0.0) continue;
       any = true;
       const int smaller = r[e[0]] <= r[e[1]] ? e[0] : e[1];
@@ -232,16 +209,9 @@ double ProjectToNonOverlapping(const Domain<Dim>& domain, double radius_min, dou
       r[i] -= shrink[i];
       if (r[i] < radius_min * (1.0 - 1e-9)) remove[i] = 1;
     }
-    *removed += RemoveParticles<Dim>(remove, x, r);
+    *removed += RemoveFlaggedParticles<Dim>(remove, x, r);
   }
   return largest;
-}
-
-template <int Dim>
-double NominalPorosity(const Domain<Dim>& domain, const std::vector<double>& r) {
-  double volume = 0.0;
-  for (double radius : r) volume += ParticleVolume<Dim>(radius);
-  return 1.0 - volume / domain.Volume();
 }
 
 }  // namespace
@@ -349,6 +319,22 @@ bool GeneratorOptions::IsValid(std::string* error) const {
   if (!(compaction_close_gap >= 0.0) || compaction_close_gap > 0.5)
     return fail("compaction_close_gap = " + std::to_string(compaction_close_gap) +
                 " is not allowed: it must be in [0, 0.5] (relative to the mean radius)");
+  if (rattler_refill_passes < 0 || rattler_refill_passes > 10)
+    return fail("rattler_refill_passes = " + std::to_string(rattler_refill_passes) +
+                " is not allowed: it must be in [0, 10]");
+  if (contact_band_rounds < 0 || contact_band_rounds > 20)
+    return fail("contact_band_rounds = " + std::to_string(contact_band_rounds) +
+                " is not allowed: it must be in [0, 20]");
+  if (contact_band_rounds > 0 && !keep_small_overlaps)
+    return fail("contact_band_rounds = " + std::to_string(contact_band_rounds) +
+                " needs keep_small_overlaps: the band places pairs anywhere in [-overlap_tolerance, "
+                "contact_tolerance], and the final projection would remove every overlap");
+  if (!(contact_band_candidate_gap > 0.0) || contact_band_candidate_gap > 0.5)
+    return fail("contact_band_candidate_gap = " + std::to_string(contact_band_candidate_gap) +
+                " is not allowed: it must be in (0, 0.5] (relative to the mean radius)");
+  if (contact_band_iterations < 1 || contact_band_iterations > 10000)
+    return fail("contact_band_iterations = " + std::to_string(contact_band_iterations) +
+                " is not allowed: it must be in [1, 10000]");
   if (num_threads < 1 || num_threads > 256)
     return fail("num_threads = " + std::to_string(num_threads) + " is not allowed: it must be in [1, 256]");
   return true;
@@ -564,7 +550,7 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
       if (remove[e[0]]) seeds[e[1]] = 1;
       if (remove[e[1]]) seeds[e[0]] = 1;
     }
-    stats.removed_particles = RemoveParticles<Dim>(remove, x, r, &seeds);
+    stats.removed_particles = RemoveFlaggedParticles<Dim>(remove, x, r, &seeds);
     // Fill the holes that take a particle of useful size; new particles are re-solved too.
     graph = BuildContactGraph<Dim>(domain, x, r, ghost_band, /*with_cells=*/true);
     // The last round only repairs: what it inserts could not be checked by another round.
@@ -598,6 +584,25 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
   s.densification_seconds = SecondsSince(densification_start);
 
   if (options.compaction && s.compactions.empty()) run_compaction(-1);
+
+  // --- Contact band: more pairs within the tolerances than exact contacts allow. ---
+  if (options.rattler_refill_passes > 0 || options.contact_band_rounds > 0) {
+    ContactBandOptions band;
+    band.contact_tolerance = options.contact_tolerance;
+    band.overlap_tolerance = options.overlap_tolerance;
+    band.candidate_gap = options.contact_band_candidate_gap;
+    band.refill_passes = options.rattler_refill_passes;
+    band.band_rounds = options.contact_band_rounds;
+    band.solver = lm;
+    band.solver.on_iteration = nullptr;
+    band.solver.max_iterations = options.contact_band_iterations;
+    band.hole_filling = hole_filling;
+    band.hole_filling.max_insertions = 1 << 30;  // a rattler's hole may take several
+    band.ghost_band = ghost_band;
+    s.band_steps = RunContactBand<Dim>(domain, band, x, r, [&](double fraction, const std::string& message) {
+      report(0.9 + 0.05 * fraction, message);
+    });
+  }
 
   // --- Final projection: no protrusion, and no overlap (or none above the tolerance). ---
   report(0.95, "removing the remaining overlaps");
@@ -674,6 +679,17 @@ std::string GeneratorSummary::FullReport() const {
                   c.seconds);
     out << line;
   }
+  if (!band_steps.empty())
+    out << "  contact band  particles  removed  added  band pairs  LM it  cost start -> end        "
+           "max ovl  porosity  nc     time [s]\n";
+  for (const auto& b : band_steps) {
+    std::snprintf(line, sizeof(line),
+                  "  %-12s  %9d  %7d  %5d  %10d  %5d  %10.3e -> %10.3e  %7.4f  %8.4f  %5.3f  %8.2f\n",
+                  b.kind.c_str(), b.particles, b.removed, b.inserted, b.band_pairs,
+                  b.lm_iterations, b.initial_cost, b.final_cost, b.max_overlap,
+                  b.nominal_porosity, b.coordination_number, b.seconds);
+    out << line;
+  }
   std::snprintf(line, sizeof(line),
                 "  final projection: largest radius reduction %.4g r_mean, %d particles removed\n"
                 "  time: placement %.2f s, densification %.2f s, total %.2f s\n"
@@ -723,6 +739,19 @@ nlohmann::json GeneratorSummary::ToJson() const {
                                 {"porosity_before", c.porosity_before},
                                 {"porosity_after", c.porosity_after},
                                 {"seconds", c.seconds}});
+  for (const auto& b : band_steps)
+    j["band_steps"].push_back({{"kind", b.kind},
+                               {"particles", b.particles},
+                               {"removed", b.removed},
+                               {"inserted", b.inserted},
+                               {"band_pairs", b.band_pairs},
+                               {"lm_iterations", b.lm_iterations},
+                               {"initial_cost", b.initial_cost},
+                               {"final_cost", b.final_cost},
+                               {"max_overlap", b.max_overlap},
+                               {"nominal_porosity", b.nominal_porosity},
+                               {"coordination_number", b.coordination_number},
+                               {"seconds", b.seconds}});
   j["projection_max_shrink"] = projection_max_shrink;
   j["projection_removed"] = projection_removed;
   j["placement_seconds"] = placement_seconds;

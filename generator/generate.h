@@ -104,6 +104,18 @@ struct GeneratorOptions {
   // Displacement of an overlapping pair ~ overlap^exponent (normalised), in [0.5, 4].
   double compaction_exponent = 1.0;
 
+  // Contact band (generator/contact_band.h), with keep_small_overlaps only: after the rounds,
+  // rattlers (fewer than Dim + 1 contacts) are replaced by particles refilled into their
+  // holes, then least-squares solves pull every pair open by at most
+  // contact_band_candidate_gap (relative to the mean radius) to within the contact tolerance,
+  // with overlaps kept within the overlap tolerance. It passes the rigidity bound of exact
+  // contacts: 3D, 30k spheres, power-law radii, overlap tolerance 0.02: nc 8.2 against 7.7
+  // (README, generator benchmark). 0 rounds and 0 passes = off.
+  int rattler_refill_passes = 0;            // in [0, 10]
+  int contact_band_rounds = 0;              // in [0, 20]
+  double contact_band_candidate_gap = 0.16;  // in (0, 0.5]
+  int contact_band_iterations = 50;         // Levenberg-Marquardt iterations per solve, [1, 10000]
+
   // Record porosity and largest overlap after every Levenberg-Marquardt iteration in
   // GeneratorSummary::trace (for error-against-run-time studies; costs one pass over the
   // graph per iteration).
@@ -161,6 +173,22 @@ struct GeneratorTracePoint {
   double max_overlap = 0.0;      // over the graph edges, relative to the expected mean radius
 };
 
+// One step of the contact band (contact_band.h): the state after it.
+struct GeneratorBandStep {
+  std::string kind;              // "refill" (rattlers replaced) or "band" (a solve)
+  int particles = 0;
+  int removed = 0;               // refill: rattlers removed
+  int inserted = 0;              // refill: particles put into their holes
+  int band_pairs = 0;            // band: pairs pulled into the band (two-sided)
+  int lm_iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  double max_overlap = 0.0;      // relative to the mean radius
+  double nominal_porosity = 0.0;
+  double coordination_number = 0.0;  // pairs within the contact tolerance
+  double seconds = 0.0;          // duration of the step
+};
+
 struct GeneratorSummary {
   std::string dimension_and_domain;
   // How the radii were drawn, e.g. "Stienen radii, node sizes ~ s^-1 over a spread of 3".
@@ -182,6 +210,7 @@ struct GeneratorSummary {
     double seconds = 0.0;
   };
   std::vector<Compaction> compactions;
+  std::vector<GeneratorBandStep> band_steps;  // only with the contact band
   double projection_max_shrink = 0.0;  // largest radius reduction of the final projection, rel.
   int projection_removed = 0;
   double placement_seconds = 0.0;

@@ -38,6 +38,37 @@ void SetContactsFromCandidates(Packing<Dim>& packing,
   packing.contact_tolerance = tolerance;
 }
 
+template <int Dim>
+int RemoveFlaggedParticles(const std::vector<char>& remove, std::vector<Vector<Dim>>& centres,
+                           std::vector<double>& radii, std::vector<char>* marks) {
+  size_t kept = 0;
+  for (size_t i = 0; i < centres.size(); ++i) {
+    if (remove[i]) continue;
+    centres[kept] = centres[i];
+    radii[kept] = radii[i];
+    if (marks) (*marks)[kept] = (*marks)[i];
+    ++kept;
+  }
+  const int removed = static_cast<int>(centres.size() - kept);
+  centres.resize(kept);
+  radii.resize(kept);
+  if (marks) marks->resize(kept);
+  return removed;
+}
+
+template <int Dim>
+double NominalPorosity(const Domain<Dim>& domain, const std::vector<double>& radii) {
+  double volume = 0.0;
+  for (double radius : radii) volume += ParticleVolume<Dim>(radius);
+  return 1.0 - volume / domain.Volume();
+}
+
+template double NominalPorosity<2>(const Domain<2>&, const std::vector<double>&);
+template double NominalPorosity<3>(const Domain<3>&, const std::vector<double>&);
+template int RemoveFlaggedParticles<2>(const std::vector<char>&, std::vector<Vector<2>>&,
+                                       std::vector<double>&, std::vector<char>*);
+template int RemoveFlaggedParticles<3>(const std::vector<char>&, std::vector<Vector<3>>&,
+                                       std::vector<double>&, std::vector<char>*);
 template double VolumeMeanRadius<2>(const std::vector<double>&);
 template double VolumeMeanRadius<3>(const std::vector<double>&);
 template double ParticleVolume<2>(double);

@@ -32,6 +32,19 @@ struct Packing {
   double Gap(int i, int j) const { return (centres[j] - centres[i]).norm() - radii[i] - radii[j]; }
 };
 
+// Gap of particles i and j given as arrays (the stages that work on bare centres and radii).
+template <int Dim>
+inline double PairGap(const std::vector<Vector<Dim>>& centres, const std::vector<double>& radii,
+                      int i, int j) {
+  return (centres[i] - centres[j]).norm() - radii[i] - radii[j];
+}
+
+// Removes the particles flagged in `remove`, keeping the order of the others; `marks`
+// (per-particle flags) are compacted alongside. Returns the number removed.
+template <int Dim>
+int RemoveFlaggedParticles(const std::vector<char>& remove, std::vector<Vector<Dim>>& centres,
+                           std::vector<double>& radii, std::vector<char>* marks = nullptr);
+
 // Volume-based mean radius (Labra 3.12): (sum r^D / N)^(1/D).
 template <int Dim>
 double VolumeMeanRadius(const std::vector<double>& radii);
@@ -39,6 +52,11 @@ double VolumeMeanRadius(const std::vector<double>& radii);
 // Volume of a particle: pi r^2 (2D, per unit thickness) or 4/3 pi r^3.
 template <int Dim>
 double ParticleVolume(double radius);
+
+// Nominal porosity (Labra 3.13): 1 - sum of particle volumes / domain volume (overlaps
+// counted twice).
+template <int Dim>
+double NominalPorosity(const Domain<Dim>& domain, const std::vector<double>& radii);
 
 // Rebuilds packing.contacts as every pair with |gap| <= tolerance * mean radius among
 // the candidate pairs (any pair list, e.g. triangulation edges), sorted and unique.

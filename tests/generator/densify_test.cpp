@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 namespace specimen {
@@ -59,6 +60,73 @@ TEST(LevenbergMarquardtResiduals, EdgeJacobianMatchesFiniteDifferences) {
     CheckEdgeJacobian<2>(10.0, true, seed);
     CheckEdgeJacobian<3>(10.0, true, seed);
   }
+}
+
+// The band residual (contact band): zero anywhere in [-band_overlap, band_gap], the excess
+// beyond either end otherwise (overlaps weighted), and nothing pulls a one-sided pair.
+TEST(LevenbergMarquardtResiduals, BandEdgeIsZeroInsideTheBandAndTheExcessOutside) {
+  const double a[3] = {0, 0, 1.0};
+  auto at = [&](double gap, double length_scale, double weight, bool one_sided) {
+    const double b[3] = {2.5 + gap, 0, 1.5};
+    return BandEdgeResidual<2>(a, b, length_scale, 0.02, 0.03, weight, one_sided, nullptr, nullptr);
+  };
+  for (double gap : {-0.0199, -0.01, 0.0, 0.015, 0.0299}) EXPECT_DOUBLE_EQ(at(gap, 1.0, 4.0, false), 0.0);
+  EXPECT_NEAR(at(0.1, 1.0, 4.0, false), 0.07, 1e-12);
+  EXPECT_NEAR(at(0.1, 2.0, 4.0, false), 0.035, 1e-12);
+  EXPECT_DOUBLE_EQ(at(0.1, 1.0, 4.0, true), 0.0);
+  EXPECT_NEAR(at(-0.05, 1.0, 4.0, false), 4.0 * -0.03, 1e-12);
+  EXPECT_NEAR(at(-0.05, 1.0, 4.0, true), 4.0 * -0.03, 1e-12);
+}
+
+TEST(LevenbergMarquardtResiduals, BandEdgeJacobianMatchesFiniteDifferences) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int outside = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    double a[4], b[4];
+    for (int k = 0; k < 3; ++k) a[k] = u(rng), b[k] = u(rng);
+    a[3] = 0.5 + 0.3 * u(rng);
+    b[3] = 0.5 + 0.3 * u(rng);
+    const double gap = std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                                 (a[2] - b[2]) * (a[2] - b[2])) - a[3] - b[3];
+    // Away from the kinks at the band ends, where the residual is not differentiable.
+    if (std::abs(gap + 0.05) < 1e-3 || std::abs(gap - 0.1) < 1e-3) continue;
+    if (gap < -0.05 || gap > 0.1) ++outside;
+    const bool one_sided = trial % 3 == 0;
+    auto f = [&] { return BandEdgeResidual<3>(a, b, 0.7, 0.05, 0.1, 4.0, one_sided, nullptr, nullptr); };
+    double ja[4], jb[4], fa[4], fb[4];
+    BandEdgeResidual<3>(a, b, 0.7, 0.05, 0.1, 4.0, one_sided, ja, jb);
+    FiniteDifference(f, a, 4, fa);
+    FiniteDifference(f, b, 4, fb);
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_NEAR(ja[k], fa[k], 1e-6 * (1 + std::abs(fa[k])));
+      EXPECT_NEAR(jb[k], fb[k], 1e-6 * (1 + std::abs(fb[k])));
+    }
+  }
+  EXPECT_GT(outside, 20);  // the draws exercise the non-zero branches
+}
+
+// A band solve is an inequality: a pair open by 10 % of a radius is pulled to the band's
+// edge, not to exact contact, and a pair already inside is left where it is.
+TEST(LevenbergMarquardt, BandPullsAPairToTheBandNotToContact) {
+  const auto domain = Domain<2>::Rectangle(0, 0, 20, 20);
+  std::vector<Vector<2>> x = {{8.0, 10.0}, {10.1, 10.0}, {10.0, 14.0}, {12.01, 14.0}};
+  std::vector<double> r = {1.0, 1.0, 1.0, 1.0};
+  ContactGraph<2> graph;
+  graph.edges = {{0, 1}, {2, 3}};
+  LevenbergMarquardtOptions options;
+  options.radius_min = 0.5;
+  options.radius_max = 2.0;
+  options.length_scale = 1.0;
+  options.position_anchor_weight = 1e-4;
+  options.max_iterations = 100;
+  options.band_overlap = 0.02;
+  options.band_gap = 0.03;
+  const auto summary = SolveLevenbergMarquardt<2>(domain, graph, options, x, r);
+  const double open_gap = (x[1] - x[0]).norm() - r[0] - r[1];
+  EXPECT_LE(open_gap, 0.03 + 1e-4) << summary.termination;
+  EXPECT_GT(open_gap, 0.02);  // stopped at the band, not pulled on to exact contact
+  EXPECT_NEAR((x[3] - x[2]).norm() - r[2] - r[3], 0.01, 1e-9);  // inside: untouched
 }
 
 TEST(LevenbergMarquardtResiduals, BoundaryResidualAndJacobian) {

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "generator/packing_io.h"
+#include <nlohmann/json.hpp>
 
 namespace {
 
@@ -86,6 +87,16 @@ TEST(GeneratePackingCommand, BadInputExitsWithTwoAndWritesNothing) {
       {"--domain \"box 0 0 0 1 1 1\" --count 100 --close-gap 0.6", "--close-gap"},
       {"--domain \"box 0 0 0 1 1 1\" --count 100 --exact-pairs 0", "--exact-pairs"},
       {"--domain \"box 0 0 0 1 1 1\" --count 100 --exact-pairs 2.5", "--exact-pairs"},
+      // The contact band: it needs kept overlaps, and its settings need it.
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --contact-band", "--keep-overlaps"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --band-rounds 2", "--contact-band"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --refill-passes 1", "--contact-band"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --keep-overlaps --contact-band --band-rounds 21",
+       "--band-rounds"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --keep-overlaps --contact-band --refill-passes -1",
+       "--refill-passes"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --keep-overlaps --contact-band --band-candidate-gap 0",
+       "--band-candidate-gap"},
   };
   for (const Case& c : cases) {
     const fs::path dir = FreshDirectory("bad");
@@ -134,6 +145,23 @@ TEST(GeneratePackingCommand, MissingSizeIsReported) {
 }  // namespace
 
 // The dense preset runs end to end from the command line and reports its radius bounds.
+TEST(GeneratePackingCommand, ContactBandInABox) {
+  const fs::path dir = FreshDirectory("contact_band");
+  const Result r = RunCommandLine("--domain \"box 0 0 0 1 1 1\" --count 600 --radius-distribution power-law "
+                                  "--keep-overlaps --overlap-tolerance 0.02 --contact-band --band-rounds 2 "
+                                  "--quiet --no-pictures --output " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("contact band"), std::string::npos) << r.output;
+  // With power-law the rounds stop after 3: rounds 0 to 2 in the table, then 2 refills and
+  // 2 band solves.
+  std::ifstream report(dir / "packing_report.json");
+  const auto json = nlohmann::json::parse(report);
+  EXPECT_EQ(json["generator"]["rounds"].size(), 3u) << json.dump(1);
+  ASSERT_EQ(json["generator"]["band_steps"].size(), 4u) << json.dump(1);
+  EXPECT_EQ(json["generator"]["band_steps"][3]["kind"], "band");
+  fs::remove_all(dir);
+}
+
 TEST(GeneratePackingCommand, PowerLawPresetInABox) {
   const fs::path dir = FreshDirectory("power_law");
   const Result r = RunCommandLine("--domain \"box 0 0 0 1 1 1\" --count 600 --radius-distribution power-law "
