@@ -51,7 +51,6 @@ constexpr double kCountSlack = 1.03;
 // Rings of neighbours around a defect that a repair round lets move.
 constexpr int kRepairRings = 2;
 
-
 // Log-centre of the final radii relative to that of the node sizes (see the bounds below).
 template <int Dim>
 constexpr double kRadiusCentre = Dim == 2 ? 0.8 : 0.85;
@@ -599,9 +598,10 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
     band.hole_filling = hole_filling;
     band.hole_filling.max_insertions = 1 << 30;  // a rattler's hole may take several
     band.ghost_band = ghost_band;
-    s.band_steps = RunContactBand<Dim>(domain, band, x, r, [&](double fraction, const std::string& message) {
+    auto band_progress = [&](double fraction, const std::string& message) {
       report(0.9 + 0.05 * fraction, message);
-    });
+    };
+    s.band_steps = RunContactBand<Dim>(domain, band, x, r, band_progress);
   }
 
   // --- Final projection: no protrusion, and no overlap (or none above the tolerance). ---
@@ -642,7 +642,9 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
 
 std::string GeneratorSummary::BriefReport() const {
   char line[256];
-  const double porosity = rounds.empty() ? 0.0 : rounds.back().nominal_porosity;
+  const double porosity = !band_steps.empty() ? band_steps.back().nominal_porosity
+                          : rounds.empty()     ? 0.0
+                                               : rounds.back().nominal_porosity;
   std::snprintf(line, sizeof(line), "%s: %d particles, %zu rounds, porosity %.4f, %.1f s (%s)",
                 dimension_and_domain.c_str(), particles_final, rounds.size(), porosity,
                 total_seconds, termination.c_str());
