@@ -73,10 +73,14 @@ void RecordState(const Domain<Dim>& domain, const ContactGraph<Dim>& graph,
   step->seconds = std::chrono::duration<double>(Clock::now() - step_start).count();
 }
 
-// Step 1: rattlers out, holes refilled by tangent particles.
+// Step 1: rattlers out, holes refilled by tangent particles. `refilled` flags the particles
+// an earlier pass put in: each is tangent to the Dim + 1 particles or walls of its hole, the
+// best that hole allows, so it stays even when walls are among them (in 2D, removing and
+// refilling those again was a cycle: 507 out, 507 in, on every pass).
 template <int Dim>
 GeneratorBandStep RefillRattlers(const Domain<Dim>& domain, const ContactBandOptions& options,
-                                 std::vector<Vector<Dim>>& x, std::vector<double>& r) {
+                                 std::vector<char>& refilled, std::vector<Vector<Dim>>& x,
+                                 std::vector<double>& r) {
   const auto start = Clock::now();
   GeneratorBandStep step;
   step.kind = "refill";
@@ -84,8 +88,8 @@ GeneratorBandStep RefillRattlers(const Domain<Dim>& domain, const ContactBandOpt
   const BandState<Dim> state =
       MeasureBand<Dim>(graph, x, r, options.contact_tolerance * VolumeMeanRadius<Dim>(r));
   std::vector<char> remove(x.size(), 0);
-  for (size_t i = 0; i < x.size(); ++i) remove[i] = state.degree[i] < Dim + 1;
-  step.removed = RemoveFlaggedParticles<Dim>(remove, x, r);
+  for (size_t i = 0; i < x.size(); ++i) remove[i] = state.degree[i] < Dim + 1 && !refilled[i];
+  step.removed = RemoveFlaggedParticles<Dim>(remove, x, r, &refilled);
   // A hole emptied by a rattler may take several particles; each pass of FillHoles puts at
   // most one into a simplex neighbourhood.
   constexpr int kFillPasses = 3;
@@ -95,6 +99,7 @@ GeneratorBandStep RefillRattlers(const Domain<Dim>& domain, const ContactBandOpt
     step.inserted += inserted;
     if (inserted == 0) break;
   }
+  refilled.resize(x.size(), 1);
   graph = BuildContactGraph<Dim>(domain, x, r, options.ghost_band);
   RecordState<Dim>(domain, graph, x, r, options.contact_tolerance, start, &step);
   return step;
@@ -171,9 +176,10 @@ std::vector<GeneratorBandStep> RunContactBand(const Domain<Dim>& domain,
   auto report = [&](const std::string& message) {
     if (progress) progress(static_cast<double>(steps.size()) / std::max(1, total), message);
   };
+  std::vector<char> refilled(centres.size(), 0);
   for (int pass = 0; pass < options.refill_passes; ++pass) {
     report("contact band: refilling rattlers, pass " + std::to_string(pass + 1));
-    steps.push_back(RefillRattlers<Dim>(domain, options, centres, radii));
+    steps.push_back(RefillRattlers<Dim>(domain, options, refilled, centres, radii));
   }
   std::vector<std::array<int, 2>> band_pairs;
   for (int round = 0; round < options.band_rounds; ++round) {
