@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "common/error.h"
 #include "generator/contact_graph.h"
 
 namespace specimen {
@@ -106,10 +107,10 @@ GeneratorBandStep RefillRattlers(const Domain<Dim>& domain, const ContactBandOpt
 }
 
 // Step 2: one least-squares solve of the band. `band_pairs` (sorted pairs i < j) carries the
-// selection from one solve to the next; empty = first solve.
+// selection from one solve to the next (no particle is removed or added between solves).
 template <int Dim>
 GeneratorBandStep SolveBand(const Domain<Dim>& domain, const ContactBandOptions& options,
-                            std::vector<std::array<int, 2>>& band_pairs,
+                            bool first, std::vector<std::array<int, 2>>& band_pairs,
                             std::vector<Vector<Dim>>& x, std::vector<double>& r) {
   const auto start = Clock::now();
   GeneratorBandStep step;
@@ -132,7 +133,6 @@ GeneratorBandStep SolveBand(const Domain<Dim>& domain, const ContactBandOptions&
   band_graph.boundary_ties = graph.boundary_ties;
   solver.edge_one_sided.clear();
   const double reach = kOneSidedReach * mean_radius;
-  const bool first = band_pairs.empty();
   std::vector<std::array<int, 2>> selected;
   for (const auto& e : graph.edges) {
     const double gap = PairGap<Dim>(x, r, e[0], e[1]);
@@ -155,6 +155,10 @@ GeneratorBandStep SolveBand(const Domain<Dim>& domain, const ContactBandOptions&
 
   const LevenbergMarquardtSummary solve =
       SolveLevenbergMarquardt<Dim>(domain, band_graph, solver, x, r);
+  // Ceres does not start from a point outside the radius bounds (or a failed evaluation).
+  if (solve.iterations < 0)
+    throw ComputationError("contact band: the least-squares solve could not start: " +
+                           solve.termination);
   step.lm_iterations = solve.iterations;
   step.initial_cost = solve.initial_cost;
   step.final_cost = solve.final_cost;
@@ -171,6 +175,10 @@ std::vector<GeneratorBandStep> RunContactBand(const Domain<Dim>& domain,
                                               std::vector<Vector<Dim>>& centres,
                                               std::vector<double>& radii,
                                               const ProgressCallback& progress) {
+  if (!(options.contact_tolerance > 0.0) || !(options.overlap_tolerance >= 0.0) ||
+      !(options.candidate_gap > 0.0) || options.refill_passes < 0 || options.band_rounds < 0)
+    throw InputError("contact band: contact_tolerance and candidate_gap must be > 0, "
+                     "overlap_tolerance >= 0, refill_passes and band_rounds >= 0");
   std::vector<GeneratorBandStep> steps;
   const int total = options.refill_passes + options.band_rounds;
   auto report = [&](const std::string& message) {
@@ -185,7 +193,7 @@ std::vector<GeneratorBandStep> RunContactBand(const Domain<Dim>& domain,
   for (int round = 0; round < options.band_rounds; ++round) {
     report("contact band: solve " + std::to_string(round + 1) + " of " +
            std::to_string(options.band_rounds));
-    steps.push_back(SolveBand<Dim>(domain, options, band_pairs, centres, radii));
+    steps.push_back(SolveBand<Dim>(domain, options, round == 0, band_pairs, centres, radii));
   }
   return steps;
 }

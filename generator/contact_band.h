@@ -13,8 +13,9 @@
 // The stage runs after the rounds:
 //   1. refill, `refill_passes` times: particles with fewer than Dim + 1 contacts with other
 //      particles are removed (rattlers, or held only by a wall that is gone downstream: they
-//      lower nc). Their holes are refilled by particles tangent to Dim + 1 neighbours
-//      (hole_filling.h).
+//      lower nc), except those an earlier pass put in. Their holes are refilled by particles
+//      tangent to the Dim + 1 particles or walls of a simplex, or, in a hole larger than
+//      r_max, by an r_max particle at its centre (hole_filling.h).
 //   2. band, `band_rounds` least-squares solves. Each solve pays only the part of a gap that
 //      lies outside the band (densify.h, band_gap). The first solve takes every pair open by
 //      at most `candidate_gap`. Later solves keep the pairs that came within twice the
@@ -39,7 +40,7 @@ struct ContactBandOptions {
   // Pairs open by at most this (relative to the mean radius) are pulled in by the first solve.
   double candidate_gap = 0.16;
   int refill_passes = 2;
-  int band_rounds = 2;
+  int band_rounds = 3;  // the third solve is a no-op when the second converged
   // Radius bounds, length scale, threads and iteration cap of the solves. The band fields
   // and the constraint flags are set by the stage.
   LevenbergMarquardtOptions solver;
@@ -47,7 +48,10 @@ struct ContactBandOptions {
   double ghost_band = 0.0;          // for the contact graph (contact_graph.h)
 };
 
-// Runs the stage on the centres and radii in place; returns one record per step.
+// Runs the stage on the centres and radii in place; returns one record per step. Throws
+// InputError for tolerances out of range and ComputationError if a solve cannot start.
+// The refill alone (band_rounds 0) works on exact contacts too; the band solves need the
+// overlaps kept afterwards (GeneratorOptions::keep_small_overlaps).
 template <int Dim>
 std::vector<GeneratorBandStep> RunContactBand(const Domain<Dim>& domain,
                                               const ContactBandOptions& options,

@@ -56,7 +56,7 @@ struct LevenbergMarquardtOptions {
   // Use conjugate gradients on the normal equations (inexact steps) instead of sparse
   // Cholesky; cheaper per iteration on large 3D problems.
   bool iterative_linear_solver = false;
-  // Banded edges (the contact band stage of generate.h) when band_gap > 0: the residual of
+  // Banded edges (the contact band, contact_band.h) when band_gap > 0: the residual of
   // an edge is the part of its gap (|xi - xj| - ri - rj, absolute) outside
   // [-band_overlap, band_gap] for a two-sided edge, below -band_overlap for a one-sided one.
   // These are inequalities, not equalities: more than (Dim + 1) N pairs can sit in the band

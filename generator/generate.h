@@ -104,13 +104,14 @@ struct GeneratorOptions {
   // Displacement of an overlapping pair ~ overlap^exponent (normalised), in [0.5, 4].
   double compaction_exponent = 1.0;
 
-  // Contact band (generator/contact_band.h), with keep_small_overlaps only: after the rounds,
-  // rattlers (fewer than Dim + 1 contacts) are replaced by particles refilled into their
-  // holes, then least-squares solves pull every pair open by at most
+  // Contact band (generator/contact_band.h), its solves with keep_small_overlaps only: after
+  // the rounds, rattlers (fewer than Dim + 1 contacts) are replaced by particles refilled into
+  // their holes, then least-squares solves pull every pair open by at most
   // contact_band_candidate_gap (relative to the mean radius) to within the contact tolerance,
   // with overlaps kept within the overlap tolerance. It passes the rigidity bound of exact
   // contacts: 3D, 30k spheres, power-law radii, overlap tolerance 0.02: nc 8.2 against 7.7
-  // (README, generator benchmark). 0 rounds and 0 passes = off.
+  // (README, generator benchmark). 0 rounds and 0 passes = off; the candidate gap and the
+  // iteration cap apply to the solves only.
   int rattler_refill_passes = 0;            // in [0, 10]
   int contact_band_rounds = 0;              // in [0, 20]
   double contact_band_candidate_gap = 0.16;  // in (0, 0.5]

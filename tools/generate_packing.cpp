@@ -25,6 +25,7 @@
 #include <sstream>
 
 #include "common/progress.h"
+#include "generator/contact_band.h"
 #include "generator/generate.h"
 #include "generator/metrics.h"
 #include "generator/packing_outputs.h"
@@ -86,9 +87,7 @@ const FieldNames kOptionNames = {
     {"contact_band_candidate_gap", "--band-candidate-gap"},
 };
 
-// --contact-band defaults (generator/contact_band.h; README, generator benchmark).
-constexpr int kDefaultRefillPasses = 2;
-constexpr int kDefaultBandRounds = 3;
+// Rounds of the power-law preset before --contact-band (README, generator benchmark).
 constexpr int kPowerLawRoundsBeforeBand = 3;
 
 // Dimension of a domain from its first word.
@@ -171,8 +170,11 @@ int Run(const CommandLine& cl) {
       throw InputError("--contact-band needs --keep-overlaps: the band places pairs anywhere "
                        "between -overlap-tolerance and +contact-tolerance, and without it the final "
                        "projection removes every overlap again");
-    options.rattler_refill_passes = cl.refill_passes.value_or(kDefaultRefillPasses);
-    options.contact_band_rounds = cl.band_rounds.value_or(kDefaultBandRounds);
+    options.rattler_refill_passes = cl.refill_passes.value_or(ContactBandOptions().refill_passes);
+    options.contact_band_rounds = cl.band_rounds.value_or(ContactBandOptions().band_rounds);
+    if (options.rattler_refill_passes == 0 && options.contact_band_rounds == 0)
+      throw InputError("--contact-band with --band-rounds 0 and --refill-passes 0 has nothing to "
+                       "do: leave out --contact-band instead");
     if (cl.band_candidate_gap) options.contact_band_candidate_gap = *cl.band_candidate_gap;
     // The band supersedes the preset's rounds 3 to 5 (measured, 30k spheres: nc 7.68 after
     // round 2, 7.69 after round 5), and they cost a fifth of the run.

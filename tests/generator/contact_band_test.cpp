@@ -147,6 +147,13 @@ TEST(ContactBand, BadOptionsNameTheField) {
   GeneratorOptions iterations;
   iterations.contact_band_iterations = 0;
   expect_message(iterations, "contact_band_iterations");
+  // The stage on its own checks its tolerances too (a zero band would silently fall back to
+  // exact residuals).
+  std::vector<Vector<3>> x = {Vector<3>(0.3, 0.5, 0.5), Vector<3>(0.7, 0.5, 0.5)};
+  std::vector<double> r = {0.2, 0.2};
+  ContactBandOptions zero_band;
+  zero_band.contact_tolerance = 0.0;
+  EXPECT_THROW(RunContactBand<3>(box, zero_band, x, r), InputError);
 }
 
 }  // namespace

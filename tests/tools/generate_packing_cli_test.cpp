@@ -97,6 +97,8 @@ TEST(GeneratePackingCommand, BadInputExitsWithTwoAndWritesNothing) {
        "--refill-passes"},
       {"--domain \"box 0 0 0 1 1 1\" --count 100 --keep-overlaps --contact-band --band-candidate-gap 0",
        "--band-candidate-gap"},
+      {"--domain \"box 0 0 0 1 1 1\" --count 100 --keep-overlaps --contact-band --band-rounds 0 "
+       "--refill-passes 0", "nothing"},
   };
   for (const Case& c : cases) {
     const fs::path dir = FreshDirectory("bad");
@@ -144,7 +146,8 @@ TEST(GeneratePackingCommand, MissingSizeIsReported) {
 
 }  // namespace
 
-// The dense preset runs end to end from the command line and reports its radius bounds.
+// The contact band from the command line: with power-law the rounds stop after 3, and the
+// report and JSON list its steps (its effect on nc is checked in contact_band_test.cpp).
 TEST(GeneratePackingCommand, ContactBandInABox) {
   const fs::path dir = FreshDirectory("contact_band");
   const Result r = RunCommandLine("--domain \"box 0 0 0 1 1 1\" --count 600 --radius-distribution power-law "
@@ -152,8 +155,7 @@ TEST(GeneratePackingCommand, ContactBandInABox) {
                                   "--quiet --no-pictures --output " + dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("contact band"), std::string::npos) << r.output;
-  // With power-law the rounds stop after 3: rounds 0 to 2 in the table, then 2 refills and
-  // 2 band solves.
+  // Rounds 0 to 2 in the table, then 2 refills and 2 band solves.
   std::ifstream report(dir / "packing_report.json");
   const auto json = nlohmann::json::parse(report);
   EXPECT_EQ(json["generator"]["rounds"].size(), 3u) << json.dump(1);
@@ -162,6 +164,7 @@ TEST(GeneratePackingCommand, ContactBandInABox) {
   fs::remove_all(dir);
 }
 
+// The dense preset runs end to end from the command line and reports its radius bounds.
 TEST(GeneratePackingCommand, PowerLawPresetInABox) {
   const fs::path dir = FreshDirectory("power_law");
   const Result r = RunCommandLine("--domain \"box 0 0 0 1 1 1\" --count 600 --radius-distribution power-law "
