@@ -94,7 +94,7 @@ int SweepColumn(MicroRatio ratio) {
   return 2;
 }
 
-std::string MapsScript(const StoredMaps& stored, const MicroRatios& chosen, const InversionResult& inversion,
+std::string MapsScript(const StoredMaps& stored, const MicroRatios& chosen,
                        const std::string& sweep_csv, const std::string& curves_csv) {
   const MapSet& maps = stored.maps;
   const int first = 0, last = static_cast<int>(maps.inputs.size()) - 1;
@@ -128,22 +128,66 @@ std::string MapsScript(const StoredMaps& stored, const MicroRatios& chosen, cons
   panel(b, "sigma_c / sigma_t", cb, "$12", strength_axis, "7", x[strength_axis], psi_c / psi_t);
   panel(b, "Psi_c = sigma_c A~ / (Rn nc (1-e))", cb, "$14", strength_axis, "5", x[strength_axis], psi_c);
   s << "unset multiplot\n";
-  (void)inversion;
   return s.str();
 }
 
 void WriteVerificationCsv(const CalibrationSummary& summary, std::ostream& out) {
-  out << "round,kn,kt,rn,rt,friction,particle_youngs_modulus_pa,particle_poisson_ratio,youngs_modulus_pa,"
-         "poisson_ratio,ucs_pa,tensile_strength_pa,error_youngs,error_poisson,error_ucs,error_tensile,seconds\n";
+  out << "round,best,accepted,kn,kt,rn,rt,friction,particle_youngs_modulus_pa,particle_poisson_ratio,youngs_modulus_pa,"
+         "poisson_ratio,ucs_pa,tensile_strength_pa,predicted_ucs_pa,predicted_tensile_strength_pa,error_youngs,"
+         "error_poisson,error_ucs,error_tensile,seconds\n";
   for (const VerificationRound& v : summary.rounds) {
     const MaterialParameters& m = v.material;
-    out << v.round << "," << Exact(m.normal_stiffness_n_per_m) << "," << Exact(m.tangential_stiffness_n_per_m) << ","
+    out << v.round << "," << (v.round == summary.best_round ? 1 : 0) << "," << (v.accepted ? 1 : 0) << ","
+        << Exact(m.normal_stiffness_n_per_m) << "," << Exact(m.tangential_stiffness_n_per_m) << ","
         << Exact(m.bond_tensile_strength_n) << "," << Exact(m.bond_shear_strength_n) << ","
         << Exact(m.friction_coefficient) << "," << (m.particle_youngs_modulus_pa ? *m.particle_youngs_modulus_pa : 0.0)
         << "," << m.particle_poisson_ratio << "," << v.youngs_modulus_pa << "," << v.poisson_ratio << "," << v.ucs_pa
-        << "," << v.tensile_strength_pa << "," << v.error_youngs << "," << v.error_poisson << "," << v.error_ucs << ","
-        << v.error_tensile << "," << v.seconds << "\n";
+        << "," << v.tensile_strength_pa << "," << v.predicted_ucs_pa << "," << v.predicted_tensile_strength_pa << ","
+        << v.error_youngs << "," << v.error_poisson << "," << v.error_ucs << "," << v.error_tensile << ","
+        << v.seconds << "\n";
   }
+}
+
+void WriteElasticRunsCsv(const CalibrationSummary& summary, std::ostream& out) {
+  out << "run,purpose,kt_over_kn,kn_over_ep_l,particle_poisson_ratio,kn,youngs_modulus_pa,poisson_ratio,seconds\n";
+  int k = 0;
+  for (const ElasticRun& r : summary.solution.elastic_runs)
+    out << ++k << "," << r.purpose << "," << r.query.ratios.tangential_to_normal_stiffness << ","
+        << r.query.ratios.normal_stiffness_to_particle << "," << r.query.ratios.particle_poisson_ratio << ","
+        << Exact(r.query.normal_stiffness) << "," << r.measured.youngs_modulus_pa << "," << r.measured.poisson_ratio
+        << "," << r.measured.seconds << "\n";
+}
+
+// The reach region of the model used: nu and the interval of sigma_c / sigma_t at each
+// elastic set of the box (calibration_solver.h ReachSample), from the corrected surfaces.
+void WriteReachCsv(const CalibrationSummary& summary, std::ostream& out) {
+  out << "model,kt_over_kn,kn_over_ep_l,poisson_ratio,strength_ratio_min,strength_ratio_max\n";
+  for (const CalibrationReach* reach : {&summary.rigid_reach, &summary.deformable_reach}) {
+    if (!reach->assessed) continue;
+    for (const ReachSample& r : reach->region)
+      out << (reach->deformable ? "ddem" : "rigid") << "," << r.stiffness_ratio << "," << r.particle_compliance << ","
+          << r.poisson_ratio << "," << r.strength_ratio_min << "," << r.strength_ratio_max << "\n";
+  }
+}
+
+// The error of every property against the strength round (E, nu: the round's elastic set).
+std::string ConvergenceScript(const CalibrationSummary& summary, const CalibrationOptions& options,
+                              const std::string& verification_csv) {
+  std::ostringstream s;
+  s << "set datafile separator ','\nset key top right\nset grid\n";
+  s << "set title 'Calibration to " << summary.target.name << ": error against the strength round'\n";
+  s << "set xlabel 'strength round'\nset ylabel 'error [%]'\nset xtics 1\n";
+  s << "set yrange [*:*]\n";
+  const std::string f = GnuplotQuote(verification_csv);
+  s << "plot " << f << " every ::1 using 1:(100*$17) with linespoints lw 2 pt 7 title 'E', " << f
+    << " every ::1 using 1:(100*$18) with linespoints lw 2 pt 5 title 'nu', " << f
+    << " every ::1 using 1:(100*$19) with linespoints lw 2 pt 9 title 'UCS', " << f
+    << " every ::1 using 1:(100*$20) with linespoints lw 2 pt 11 title 'sigma_t', "
+    << 100 * options.tolerance_ucs << " with lines dt 2 lc rgb '#808080' title 'UCS tolerance', "
+    << -100 * options.tolerance_ucs << " with lines dt 2 lc rgb '#808080' notitle, "
+    << 100 * options.tolerance_tensile << " with lines dt 3 lc rgb '#a0a0a0' title 'sigma_t tolerance', "
+    << -100 * options.tolerance_tensile << " with lines dt 3 lc rgb '#a0a0a0' notitle\n";
+  return s.str();
 }
 
 }  // namespace
@@ -204,8 +248,10 @@ CalibrationOutputsWritten WriteCalibrationOutputs(const CalibrationSummary& summ
   group.Add(base + "_report.txt", [&](std::ostream& out) { out << text_report; });
   group.Add(base + "_sweep.csv", [&](std::ostream& out) { WriteSweepCsv(summary.maps, out); });
   group.Add(base + "_map_curves.csv",
-            [&](std::ostream& out) { WriteCurvesCsv(summary.maps, summary.inversion.ratios, out); });
+            [&](std::ostream& out) { WriteCurvesCsv(summary.maps, summary.solution.ratios, out); });
   group.Add(base + "_verification.csv", [&](std::ostream& out) { WriteVerificationCsv(summary, out); });
+  group.Add(base + "_elastic_runs.csv", [&](std::ostream& out) { WriteElasticRunsCsv(summary, out); });
+  group.Add(base + "_reach.csv", [&](std::ostream& out) { WriteReachCsv(summary, out); });
   for (const std::string& f : group.Commit()) written.files.push_back(f);
 
   // The final verification tests, as run-test writes them.
@@ -224,13 +270,18 @@ CalibrationOutputsWritten WriteCalibrationOutputs(const CalibrationSummary& summ
 
   if (output.pictures) {
     std::string error;
-    const std::string script = MapsScript(summary.maps, summary.inversion.ratios, summary.inversion,
-                                          base + "_sweep.csv", base + "_map_curves.csv");
+    const std::string script =
+        MapsScript(summary.maps, summary.solution.ratios, base + "_sweep.csv", base + "_map_curves.csv");
     PlotOptions plot;
     plot.width_px = 1200;
     plot.height_px = 1000;
     if (RenderGnuplot(script, base + "_maps.png", plot, &error)) written.files.push_back(base + "_maps.png");
     else written.warnings.push_back("maps picture skipped: " + error);
+    if (RenderGnuplot(ConvergenceScript(summary, options, base + "_verification.csv"), base + "_convergence.png", PlotOptions(),
+                      &error))
+      written.files.push_back(base + "_convergence.png");
+    else
+      written.warnings.push_back("convergence picture skipped: " + error);
   }
   return written;
 }

@@ -34,7 +34,8 @@ nlohmann::json VerifiedPoint::ToJson() const {
           {"poisson_ratio", poisson_ratio},
           {"elastic_group", elastic_group},
           {"compressive_group", compressive_group},
-          {"tensile_group", tensile_group}};
+          {"tensile_group", tensile_group},
+          {"origin", origin}};
 }
 
 VerifiedPoint VerifiedPoint::FromJson(const nlohmann::json& j) {
@@ -45,6 +46,7 @@ VerifiedPoint VerifiedPoint::FromJson(const nlohmann::json& j) {
   v.elastic_group = j.at("elastic_group").get<double>();
   v.compressive_group = j.at("compressive_group").get<double>();
   v.tensile_group = j.at("tensile_group").get<double>();
+  v.origin = j.value("origin", std::string("calibration"));
   return v;
 }
 

@@ -15,22 +15,24 @@
 #include <nlohmann/json.hpp>
 
 #include "calibrate/dimensionless_groups.h"
-#include "calibrate/inversion.h"
+#include "calibrate/map_set.h"
 #include "calibrate/map_sweep.h"
 
 namespace specimen {
 
-// A verification run stored with the maps: what the real (larger) specimen measured at a
-// point of the maps. A later calibration on an equivalent specimen to a similar target starts
-// from the closest one instead of the maps' prediction (calibration.cpp), so that its first
-// verification round already lands near the target.
+// A measurement on the real (calibration) specimens stored with the maps: the transfer
+// anchors measured when the maps were built (map_sweep.h TransferAnchorPoints), and the runs
+// of later calibrations. Every calibration on an equivalent specimen corrects the surfaces by
+// them (surrogate.h) before its first run. Groups as the sweep points'; an elastic run has
+// no strengths (groups 0).
 struct VerifiedPoint {
   MicroRatios ratios;
   PackingDescriptors specimen;  // the UCS specimen it was measured on
   double poisson_ratio = 0.0;
-  double elastic_group = 0.0;
-  double compressive_group = 0.0;
+  double elastic_group = 0.0;      // 0: no elastic constants
+  double compressive_group = 0.0;  // 0: no strengths
   double tensile_group = 0.0;
+  std::string origin = "calibration";  // "anchor" or "calibration"
 
   nlohmann::json ToJson() const;
   static VerifiedPoint FromJson(const nlohmann::json& j);

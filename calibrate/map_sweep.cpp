@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
+#include "calibrate/intact_elastic.h"
 #include "generator/metrics.h"
 
 namespace specimen {
@@ -25,16 +26,6 @@ MicroRatio RatioFromName(const std::string& name) {
                        MicroRatio::kParticleCompliance, MicroRatio::kParticlePoisson})
     if (MicroRatioName(r) == name) return r;
   throw InputError("unknown micro ratio '" + name + "' in a sweep design");
-}
-
-void SetRatio(MicroRatios* r, MicroRatio ratio, double value) {
-  switch (ratio) {
-    case MicroRatio::kStiffnessRatio: r->tangential_to_normal_stiffness = value; break;
-    case MicroRatio::kStrengthRatio: r->shear_to_tensile_strength = value; break;
-    case MicroRatio::kFriction: r->friction_coefficient = value; break;
-    case MicroRatio::kParticleCompliance: r->normal_stiffness_to_particle = value; break;
-    case MicroRatio::kParticlePoisson: r->particle_poisson_ratio = value; break;
-  }
 }
 
 }  // namespace
@@ -59,9 +50,13 @@ MicroRatios SweepPointRatiosFromJson(const nlohmann::json& j) {
 
 namespace {
 
-// The design's identity in the journal: a point is reused only by the same design.
-std::string DesignKey(const SweepDesign& design, const MapSweepOptions& options) {
-  nlohmann::json key = design.ToJson();
+// The identity of a sweep in the journal: a point is reused only by the same points and
+// protocol.
+std::string SweepKey(const std::vector<MicroRatios>& grid, const MapSweepOptions& options) {
+  nlohmann::json key;
+  key["points"] = nlohmann::json::array();
+  for (const MicroRatios& r : grid) key["points"].push_back(SweepPointRatiosToJson(r));
+  key["elastic"] = "intact linear portion";
   key["kn"] = options.normal_stiffness_n_per_m;
   key["rn"] = options.bond_tensile_strength_n;
   key["rho"] = options.density_kg_per_m3;
@@ -114,7 +109,7 @@ std::vector<MicroRatios> SweepDesign::Points() const {
     for (const MicroRatios& base : points)
       for (int level = 0; level < axis.levels; ++level) {
         MicroRatios r = base;
-        SetRatio(&r, axis.ratio, axis.lower + (axis.upper - axis.lower) * level / (axis.levels - 1));
+        SetRatioValue(&r, axis.ratio, axis.lower + (axis.upper - axis.lower) * level / (axis.levels - 1));
         next.push_back(r);
       }
     points = std::move(next);
@@ -156,6 +151,25 @@ bool SweepDesign::IsValid(std::string* error) const {
     out << "sweep design: " << Points().size() << " points, allowed at most 400";
   if (error) *error = out.str();
   return out.str().empty();
+}
+
+std::vector<MicroRatios> TransferAnchorPoints(const SweepDesign& design) {
+  const int k = static_cast<int>(design.axes.size());
+  std::vector<MicroRatios> points;
+  for (int corner = 0; corner < (1 << k); ++corner) {
+    int sign_product = 1;
+    MicroRatios r = design.fixed;
+    for (int a = 0; a < k; ++a) {
+      const bool high = (corner >> a) & 1;
+      sign_product *= high ? 1 : -1;
+      const SweepAxis& axis = design.axes[a];
+      SetRatioValue(&r, axis.ratio, axis.lower + (high ? 0.75 : 0.25) * (axis.upper - axis.lower));
+    }
+    if (k >= 3 && sign_product < 0) continue;  // the half fraction
+    points.push_back(r);
+    if (points.size() == 4) break;
+  }
+  return points;
 }
 
 nlohmann::json SweepDesign::ToJson() const {
@@ -268,18 +282,25 @@ MapSweep RunMapSweep(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts_pa
                      const SweepDesign& design, const MapSweepOptions& options) {
   std::string error;
   if (!design.IsValid(&error)) throw InputError(error);
+  return RunSweepPoints<Dim>(ucs_packing, bts_packing, design.Points(), options);
+}
+
+template <int Dim>
+MapSweep RunSweepPoints(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts_packing,
+                        const std::vector<MicroRatios>& grid, const MapSweepOptions& options) {
+  std::string error;
   if (!options.IsValid(&error)) throw InputError(error);
+  if (grid.empty()) throw InputError("map sweep: no point to run");
   const auto start = std::chrono::steady_clock::now();
 
   MapSweep sweep;
   sweep.ucs_descriptors = Describe(ucs_packing);
   sweep.bts_descriptors = Describe(bts_packing);
   const double group_length = Dim == 2 ? 1.0 : sweep.ucs_descriptors.mean_radius;
-  const std::vector<MicroRatios> grid = design.Points();
   sweep.points.resize(grid.size());
   std::vector<bool> done(grid.size(), false);
 
-  const std::string key = DesignKey(design, options);
+  const std::string key = SweepKey(grid, options);
   if (!options.journal_path.empty()) {
     for (const SweepPoint& p : ReadJournal(options.journal_path, key))
       if (p.index >= 0 && p.index < static_cast<int>(grid.size()) && !done[p.index]) {
@@ -326,12 +347,13 @@ MapSweep RunMapSweep(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts_pa
       const LabTestResult bts = RunLabTest<Dim>(bts_packing, material, test);
       p.ucs_peak_reached = ucs.peak_reached;
       p.bts_peak_reached = bts.peak_reached;
-      if (!ucs.elastic.measured) throw ComputationError("the UCS test measured no elastic window");
       if (!ucs.peak_reached || !bts.peak_reached)
         throw ComputationError(std::string("the ") + (!ucs.peak_reached ? "UCS" : "Brazilian") +
                                " test reached its strain limit without a peak");
-      p.youngs_modulus_pa = ucs.elastic.youngs_modulus_pa;
-      p.poisson_ratio = ucs.elastic.poisson_ratio;
+      // E and nu of the intact specimen (intact_elastic.h), what the calibration matches.
+      const ElasticMeasurement elastic = MeasureIntactElasticConstants<Dim>(ucs_packing, material, options.test);
+      p.youngs_modulus_pa = elastic.youngs_modulus_pa;
+      p.poisson_ratio = elastic.poisson_ratio;
       p.ucs_pa = ucs.peak_stress_pa;
       p.tensile_strength_pa = bts.tensile_strength_pa;
       p.elastic_group = ElasticGroup(sweep.ucs_descriptors, p.youngs_modulus_pa, material.normal_stiffness_n_per_m);
@@ -436,5 +458,9 @@ MapSet FitMaps(const MapSweep& sweep, const SweepDesign& design, int max_total_d
 
 template MapSweep RunMapSweep<2>(const Packing<2>&, const Packing<2>&, const SweepDesign&, const MapSweepOptions&);
 template MapSweep RunMapSweep<3>(const Packing<3>&, const Packing<3>&, const SweepDesign&, const MapSweepOptions&);
+template MapSweep RunSweepPoints<2>(const Packing<2>&, const Packing<2>&, const std::vector<MicroRatios>&,
+                                    const MapSweepOptions&);
+template MapSweep RunSweepPoints<3>(const Packing<3>&, const Packing<3>&, const std::vector<MicroRatios>&,
+                                    const MapSweepOptions&);
 
 }  // namespace specimen

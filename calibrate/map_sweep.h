@@ -23,7 +23,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "calibrate/dimensionless_groups.h"
-#include "calibrate/inversion.h"
+#include "calibrate/map_set.h"
 #include "common/progress.h"
 #include "generator/packing.h"
 #include "solver/lab_test.h"
@@ -62,6 +62,15 @@ SweepDesign DefaultSweepDesign(bool deformable, double particle_poisson_ratio = 
                                double largest_particle_compliance = 0.0,
                                double friction_coefficient = 0.8);
 
+// Where the maps are measured on the real (calibration) specimens as well, once, when they
+// are built: the transfer anchors. Surfaces fitted on smaller map specimens are offset from
+// what the real specimens measure (strengths by 10-25 %, sigma_c / sigma_t by up to 50 %)
+// but keep their trends; the anchors measure the offset across the box, and every
+// calibration on these maps starts from surfaces corrected by them (surrogate.h). A
+// two-level design at 1/4 and 3/4 of each axis: 2^k points for k <= 2 axes, the half
+// fraction (the product of the signs +1) for k = 3, 4 points at most.
+std::vector<MicroRatios> TransferAnchorPoints(const SweepDesign& design);
+
 // The ratios as JSON (the keys of the map files).
 nlohmann::json SweepPointRatiosToJson(const MicroRatios& ratios);
 MicroRatios SweepPointRatiosFromJson(const nlohmann::json& j);
@@ -72,7 +81,8 @@ struct SweepPoint {
   MicroRatios ratios;
   bool ok = false;
   std::string failure;  // why the point failed (ok = false)
-  // Measured (2D: plane-strain E and nu, design.md).
+  // Measured (2D: plane-strain E and nu, design.md); E and nu those of the intact specimen
+  // (intact_elastic.h).
   double youngs_modulus_pa = 0.0;
   double poisson_ratio = 0.0;
   double ucs_pa = 0.0;
@@ -128,6 +138,12 @@ MaterialParameters MaterialAt(const MicroRatios& ratios, double normal_stiffness
 template <int Dim>
 MapSweep RunMapSweep(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts_packing,
                      const SweepDesign& design, const MapSweepOptions& options);
+
+// The same at a list of points (the transfer anchors on the real specimens, say); the
+// journal key is the list. `index` of each result is its place in the list.
+template <int Dim>
+MapSweep RunSweepPoints(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts_packing,
+                        const std::vector<MicroRatios>& points, const MapSweepOptions& options);
 
 // Fits the four surfaces (nu, Psi_E, Psi_c, Psi_t) over the design's inputs from the
 // points that succeeded; InputError if too few did. max_total_degree as ResponseSurface.

@@ -120,6 +120,54 @@ ElasticConstantsMeasured SecantElasticConstants(const std::vector<LabCurvePoint>
 }
 
 template <int Dim>
+ElasticConstantsMeasured LinearPortionElasticConstants(const std::vector<LabCurvePoint>& curve, int axis,
+                                                       double low_fraction) {
+  ElasticConstantsMeasured e;
+  // The intact part: up to the last sample before the first broken bond, and not past the
+  // largest control value (a platen that lost contact, say).
+  int end = 0;
+  while (end < static_cast<int>(curve.size()) &&
+         curve[end].broken_in_tension + curve[end].broken_in_shear == 0)
+    ++end;
+  int top = -1;
+  for (int k = 0; k < end; ++k)
+    if (top < 0 || curve[k].control > curve[top].control) top = k;
+  if (top < 0 || !(curve[top].control > 0.0)) return e;
+  const double level_low = low_fraction * curve[top].control;
+  // Sums of the three least-squares lines against the axial strain x: stress, lateral strain,
+  // and the stress against the platen strain.
+  double n = 0.0, sx = 0.0, sxx = 0.0, ss = 0.0, sxs = 0.0, sl = 0.0, sxl = 0.0;
+  double sb = 0.0, sbb = 0.0, sbs = 0.0;
+  for (int k = 0; k <= top; ++k) {
+    if (curve[k].control < level_low) continue;
+    double axial, lateral;
+    AxialAndLateral<Dim>(curve[k].strain, axis, &axial, &lateral);
+    const double stress = curve[k].axial_stress_pa, platen = curve[k].boundary_strain;
+    n += 1.0;
+    sx += axial, sxx += axial * axial, ss += stress, sxs += axial * stress;
+    sl += lateral, sxl += axial * lateral;
+    sb += platen, sbb += platen * platen, sbs += platen * stress;
+  }
+  const double det = n * sxx - sx * sx, det_platen = n * sbb - sb * sb;
+  if (n < 4.0 || !(det > 0.0) || !(det_platen > 0.0)) return e;
+  e.measured = true;
+  e.samples_in_window = static_cast<int>(n);
+  e.window_low_pa = level_low;
+  e.window_high_pa = curve[top].control;
+  e.youngs_modulus_in_plane_pa = (n * sxs - sx * ss) / det;
+  e.poisson_ratio_in_plane = (n * sxl - sx * sl) / det;
+  e.youngs_modulus_platen_pa = (n * sbs - sb * ss) / det_platen;
+  if constexpr (Dim == 2) {
+    PlaneStrainFromInPlane(e.youngs_modulus_in_plane_pa, e.poisson_ratio_in_plane, &e.youngs_modulus_pa,
+                           &e.poisson_ratio);
+  } else {
+    e.youngs_modulus_pa = e.youngs_modulus_in_plane_pa;
+    e.poisson_ratio = e.poisson_ratio_in_plane;
+  }
+  return e;
+}
+
+template <int Dim>
 double SecantBulkModulus(const std::vector<LabCurvePoint>& curve, const CurvePeak& peak,
                          double low, double high) {
   LabCurvePoint a, b;
@@ -190,6 +238,10 @@ template ElasticConstantsMeasured SecantElasticConstants<2>(const std::vector<La
                                                             const CurvePeak&, int, double, double);
 template ElasticConstantsMeasured SecantElasticConstants<3>(const std::vector<LabCurvePoint>&,
                                                             const CurvePeak&, int, double, double);
+template ElasticConstantsMeasured LinearPortionElasticConstants<2>(const std::vector<LabCurvePoint>&, int,
+                                                                   double);
+template ElasticConstantsMeasured LinearPortionElasticConstants<3>(const std::vector<LabCurvePoint>&, int,
+                                                                   double);
 template double SecantBulkModulus<2>(const std::vector<LabCurvePoint>&, const CurvePeak&, double,
                                      double);
 template double SecantBulkModulus<3>(const std::vector<LabCurvePoint>&, const CurvePeak&, double,

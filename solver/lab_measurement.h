@@ -43,6 +43,20 @@ ElasticConstantsMeasured SecantElasticConstants(const std::vector<LabCurvePoint>
                                                 const CurvePeak& peak, int axis,
                                                 double window_low, double window_high);
 
+// The elastic constants of the intact specimen, the average modulus of the linear portion
+// of the ISRM suggested method (Bieniawski & Bernede 1979; ASTM D7012 method B): the slopes,
+// by least squares, of the axial stress and of the lateral strain against the axial strain
+// over the samples of a compression test (along `axis`) that lie before the first broken
+// bond and the peak, and whose control stress is at least `low_fraction` x the largest one
+// among them. Below that fraction the drive's start-up (the velocity ramp) still shows in the
+// lateral strain. A bonded specimen is linear while no bond has broken, so these constants
+// depend on kn, kt (and the DDEM particle elasticity) only, never on the bond strengths: the
+// separation the calibrator relies on. broken_bonds_in_window is 0 by construction. Not
+// measured (measured = false) when fewer than 4 samples qualify.
+template <int Dim>
+ElasticConstantsMeasured LinearPortionElasticConstants(const std::vector<LabCurvePoint>& curve,
+                                                       int axis, double low_fraction);
+
 // Secant K = d sigma_m / d eps_vol (isotropic test; 2D sigma_m = (sxx + syy)/2, eps_vol =
 // exx + eyy, Madan (4.33)-(4.35)) and G = d sigma_xs / (2 d eps_xs) with s = y (2D) or z
 // (3D) (shear test, (4.36)), over the same kind of window. 0 when the window is not reached.

@@ -141,6 +141,15 @@ std::string LabTestResult::FullReport() const {
       } else {
         row("E, nu", "not measured (the window was not reached)");
       }
+      if (linear_elastic.measured) {
+        row("linear portion, intact (ISRM)", Mpa(linear_elastic.window_low_pa) + " - " +
+                                                 Mpa(linear_elastic.window_high_pa) + " (" +
+                                                 std::to_string(linear_elastic.samples_in_window) + " samples)");
+        row(dimension == 2 ? "  E, nu (plane strain)" : "  E, nu",
+            Gpa(linear_elastic.youngs_modulus_pa) + ", " + Format("%.4f", linear_elastic.poisson_ratio));
+      } else {
+        row("linear portion, intact (ISRM)", "not measured (a bond broke within the first samples)");
+      }
   }
   row("bonds broken (tension / shear)",
       std::to_string(broken_in_tension) + " / " + std::to_string(broken_in_shear));
@@ -215,6 +224,15 @@ nlohmann::json LabTestResult::ToJson() const {
                   {"broken_bonds_in_window", elastic.broken_bonds_in_window},
                   {"plane_strain_conversion", dimension == 2 ? "E = E'(1 - nu^2), nu = nu'/(1 + nu')"
                                                              : "none (3D)"}};
+  j["linear_elastic"] = {{"measured", linear_elastic.measured},
+                         {"youngs_modulus_pa", linear_elastic.youngs_modulus_pa},
+                         {"poisson_ratio", linear_elastic.poisson_ratio},
+                         {"youngs_modulus_in_plane_pa", linear_elastic.youngs_modulus_in_plane_pa},
+                         {"poisson_ratio_in_plane", linear_elastic.poisson_ratio_in_plane},
+                         {"youngs_modulus_platen_pa", linear_elastic.youngs_modulus_platen_pa},
+                         {"stress_low_pa", linear_elastic.window_low_pa},
+                         {"stress_high_pa", linear_elastic.window_high_pa},
+                         {"samples", linear_elastic.samples_in_window}};
   j["broken_bonds"] = {{"tension", broken_in_tension},
                        {"shear", broken_in_shear},
                        {"listed", broken_bonds.size()}};

@@ -599,6 +599,7 @@ void LabRun<Dim>::Measure(LabTestResult* r) const {
     default:
       r->elastic = SecantElasticConstants<Dim>(r->curve, peak, axis_, o.modulus_window_low,
                                                o.modulus_window_high);
+      r->linear_elastic = LinearPortionElasticConstants<Dim>(r->curve, axis_, o.linear_portion_low);
   }
   std::ostringstream m;
   if (r->termination == LabTermination::kPostPeak) {

@@ -244,6 +244,7 @@ void ReadTest(const toml::table* table, const std::string& source, LabScene* sce
   o.sample_interval_steps = static_cast<int>(interval);
   o.num_threads = static_cast<int>(threads);
   t.Number("strain_boundary_margin", &o.strain_boundary_margin);
+  t.Number("linear_portion_low", &o.linear_portion_low);
   const bool one = t.Number("confining_stress", &o.confining_stress_pa);
   const bool many = t.Numbers("confining_stresses", &scene->confining_stresses_pa);
   t.Number("servo_gain_fraction", &o.servo_gain_fraction);

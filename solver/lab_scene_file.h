@@ -34,7 +34,7 @@
 //   quasi_static_check = true         # repeat at half the rate, flag > 1 % changes
 //   ... and every other LabTestOptions field under its name without the unit suffix:
 //   velocity_ramp_transits, pause_kinetic_energy_ratio, max_pause_transits, sample_interval,
-//   strain_boundary_margin, servo_gain_fraction, servo_integral_transits,
+//   strain_boundary_margin, linear_portion_low, servo_gain_fraction, servo_integral_transits,
 //   consolidation_tolerance, platen_stiffness_ratio, platen_friction, local_damping,
 //   dashpot_ratio, mass_scaling (mass_scaling_budget), quasi_static_tolerance, threads
 //

@@ -85,6 +85,8 @@ bool LabTestOptions::IsValid(std::string* error) const {
   if (!(modulus_window_low < modulus_window_high))
     return fail("modulus_window_low", modulus_window_low,
                 "below modulus_window_high = " + Number(modulus_window_high));
+  if (!(linear_portion_low > 0.0 && linear_portion_low < 1.0))
+    return fail("linear_portion_low", linear_portion_low, "in (0, 1)");
   if (sample_interval_steps < 1)
     return fail("sample_interval_steps", sample_interval_steps, ">= 1");
   if (!(strain_boundary_margin >= 0.0) || !finite(strain_boundary_margin))

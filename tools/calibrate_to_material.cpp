@@ -1,13 +1,16 @@
 // calibrate-to-material: contact parameters (kn, kt, Rn, Rt, mu; Ep, nu_p for deformable
 // particles) that make virtual UCS and Brazilian tests reproduce a target rock, within the
-// DDEM convergence bound, verified by running the tests (calibrate/calibration.h).
+// DDEM convergence bound, measured on the real specimens (calibrate/calibration.h).
 //
 //   calibrate-to-material data/materials/labra2012_rock.toml --output out/calibration
 //
 // 1. Read and check the target material and the options (nothing runs on bad input).
 // 2. Generate the specimens (or read the given packings).
-// 3. Build or reuse the maps, invert them, verify and correct (progress on a terminal).
-// 4. Print the report and write the parameters, scenes, report, maps and pictures.
+// 3. Build or reuse the maps; measure the reach; the elastic and strength stages (progress
+//    on a terminal).
+// 4. Print the report and write the parameters, scenes, report, maps and pictures. Exit 0
+//    when every property is met, 4 when one is out of reach (the report says which, and
+//    what is reachable) or the budget was spent.
 
 #include <CLI/CLI.hpp>
 
@@ -127,6 +130,12 @@ int Run(const TargetMaterial& target, CalibrationOptions options, const CommandL
   std::cout << "files:\n";
   for (const auto& file : written.files) std::cout << "  " << file << "\n";
   for (const auto& warning : written.warnings) std::cerr << "warning: " << warning << "\n";
+  if (summary.gave_up) {
+    std::cerr << "calibrate-to-material: the target is out of reach on this specimen; given up:";
+    for (const std::string& g : summary.solution.reach.given_up) std::cerr << " " << g;
+    std::cerr << " (the report gives the reachable intervals and the nearest reachable point)\n";
+    return kExitComputation;
+  }
   if (!summary.converged) {
     std::cerr << "calibrate-to-material: the targets were not all met within tolerance (see the report)\n";
     return kExitComputation;
@@ -161,7 +170,7 @@ int main(int argc, char** argv) {
   app.add_option("--maps", cl.maps_file, "use this map file (must have been built for an equivalent packing)");
   app.add_flag("--no-reuse", cl.no_reuse, "build the maps again even if stored ones match");
   app.add_option("--workers", cl.workers, "sweep points run at once, default: hardware threads");
-  app.add_option("--rounds", cl.rounds, "verification rounds (UCS + BTS) at most, 1 to 20, default 6");
+  app.add_option("--rounds", cl.rounds, "strength rounds (UCS + BTS) at most, 1 to 20, default 6");
   app.add_option("--max-spectral-radius", cl.max_spectral_radius,
                  "bound on rho(B) of the DDEM iteration, in (0, 1), default 0.9");
   app.add_option("--nu-p", cl.particle_poisson_ratio, "particle Poisson ratio of the DDEM maps, default 0.45");

@@ -8,7 +8,7 @@ packages=(
   build-essential cmake pkg-config git
   libcgal-dev libgmp-dev libmpfr-dev
   libceres-dev libsuitesparse-dev
-  libnlopt-cxx-dev libeigen3-dev libcli11-dev
+  libeigen3-dev libcli11-dev
   googletest libgtest-dev
   libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
   gnuplot-nox python3 python3-vtk9 python3-numpy

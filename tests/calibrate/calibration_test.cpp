@@ -1,6 +1,7 @@
 // calibrate-to-material end to end on a small specimen: a target made by the model itself
-// (a known parameter set run through the same tests) must be recovered within the
-// tolerances, the maps stored and reused, and maps of another packing refused.
+// (a known parameter set run through the same tests: a twin experiment) must be recovered
+// within the tolerances, the maps stored and reused, the runs stored with them, and maps of
+// another packing refused.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -10,6 +11,7 @@
 
 #include "calibrate/calibration.h"
 #include "calibrate/calibration_outputs.h"
+#include "calibrate/intact_elastic.h"
 #include "common/error.h"
 #include "solver/lab_scene_file.h"
 #include "tests/generator/scratch_directory.h"
@@ -58,13 +60,14 @@ TargetMaterial ModelMadeTarget() {
   LabTestOptions test;
   test.scale_density = true;
   test.strain_limit = 0.05;
+  const ElasticMeasurement elastic = MeasureIntactElasticConstants<2>(s.ucs, m, test);
   const LabTestResult ucs = RunLabTest<2>(s.ucs, m, test);
   test.kind = LabTestKind::kBrazilian;
   const LabTestResult bts = RunLabTest<2>(s.bts, m, test);
   TargetMaterial t;
   t.name = "made by the model";
-  t.youngs_modulus_pa = ucs.elastic.youngs_modulus_pa;
-  t.poisson_ratio = ucs.elastic.poisson_ratio;
+  t.youngs_modulus_pa = elastic.youngs_modulus_pa;
+  t.poisson_ratio = elastic.poisson_ratio;
   t.ucs_pa = ucs.peak_stress_pa;
   t.tensile_strength_pa = bts.tensile_strength_pa;
   t.density_kg_per_m3 = 2600.0;
@@ -82,32 +85,39 @@ TEST(CalibrateToMaterial, RecoversAModelMadeTargetAndReusesItsMaps) {
   EXPECT_FALSE(first.maps_reused);
   EXPECT_EQ(first.model_used, "rigid");
   ASSERT_TRUE(first.converged);
-  const VerificationRound& last = first.rounds.back();
-  EXPECT_LE(std::abs(last.error_youngs), options.tolerance_youngs);
-  EXPECT_LE(std::abs(last.error_poisson), options.tolerance_poisson);
-  EXPECT_LE(std::abs(last.error_ucs), options.tolerance_ucs);
-  // E and nu are read at the target's stresses; with the UCS on target the window is the
-  // specimen's own one to within the UCS tolerance, so both readings agree closely.
-  EXPECT_TRUE(last.window_at_target);
-  EXPECT_NEAR(last.youngs_modulus_pa / last.own_peak_youngs_modulus_pa, 1.0, 0.01);
-  EXPECT_NEAR(last.poisson_ratio, last.own_peak_poisson_ratio, 0.01);
-  // sigma_t is held to its tolerance only when the maps say sigma_c/sigma_t is reachable with
-  // nu (a 300-disc Brazilian disc is too small for a reliable map of it); either way the
-  // report must say which.
-  if (first.tensile_honoured) EXPECT_LE(std::abs(last.error_tensile), options.tolerance_tensile);
-  else EXPECT_NE(first.FullReport().find("not reachable"), std::string::npos);
-  // The parameters that made the target, up to what the small specimen can tell apart.
-  EXPECT_NEAR(first.material.tangential_stiffness_n_per_m / first.material.normal_stiffness_n_per_m, 0.5, 0.15);
-  EXPECT_NEAR(first.material.normal_stiffness_n_per_m / 1e10, 1.0, 0.25);
+  EXPECT_FALSE(first.gave_up);  // a twin is reachable by construction
+  EXPECT_TRUE(first.tensile_honoured);
+  const VerificationRound& best = first.rounds[first.best_round - 1];
+  EXPECT_LE(std::abs(best.error_youngs), options.tolerance_youngs);
+  EXPECT_LE(std::abs(best.error_poisson), options.tolerance_poisson);
+  EXPECT_LE(std::abs(best.error_ucs), options.tolerance_ucs);
+  EXPECT_LE(std::abs(best.error_tensile), options.tolerance_tensile);
+  // The reach was measured before any strength test: the corner runs come first.
+  ASSERT_GE(first.solution.elastic_runs.size(), 3u);
+  EXPECT_EQ(first.solution.elastic_runs[0].purpose, "reach");
+  EXPECT_LE(first.rigid_reach.poisson_min, target.poisson_ratio);
+  EXPECT_GE(first.rigid_reach.poisson_max, target.poisson_ratio);
+  // The parameters that made the target: the elastic ones exactly (nu and E of the intact
+  // specimen repeat within 0.1 %). Of the strengths, Rt: at Rt/Rn 4 both tests of this
+  // 300-disc specimen fail in shear (sigma_t is the same for Rn 2.0 and 2.5 kN at equal Rt),
+  // so Rn itself is not identifiable at these tolerances.
+  EXPECT_NEAR(first.material.tangential_stiffness_n_per_m / first.material.normal_stiffness_n_per_m, 0.5, 0.03);
+  EXPECT_NEAR(first.material.normal_stiffness_n_per_m / 1e10, 1.0, 0.02);
+  EXPECT_NEAR(first.material.bond_shear_strength_n / 8000.0, 1.0, 0.1);
   EXPECT_FALSE(first.stability_verdict.empty());
   ASSERT_FALSE(first.maps_path.empty());
   EXPECT_TRUE(fs::exists(first.maps_path));
   EXPECT_FALSE(fs::exists(first.maps_path + ".journal"));  // removed once the maps are stored
 
-  // Stored maps are reused: no sweep.
+  // Stored maps are reused: no sweep; the first calibration's runs are stored with them and
+  // correct the surfaces of the second, whose first prediction is then closer.
   const CalibrationSummary second = CalibrateToMaterial<2>(Specimens(), target, options);
   EXPECT_TRUE(second.maps_reused);
   EXPECT_EQ(second.sweep_seconds, 0.0);
+  EXPECT_EQ(second.stored_measurements,
+            static_cast<int>(first.solution.elastic_runs.size() + first.solution.rounds.size()));
+  EXPECT_TRUE(second.converged);
+  EXPECT_LE(second.rounds.size(), first.rounds.size());
 
   // The outputs: the scenes are valid run-test scenes with the calibrated material.
   const fs::path out = fs::path(scratch.path()) / "out";

@@ -2,6 +2,8 @@
 // that lets a killed sweep resume, the stored map file and its packing check.
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -70,6 +72,26 @@ TEST(SweepDesign, FullFactorialGridFirstAxisSlowest) {
   for (const MicroRatios& r : points) EXPECT_DOUBLE_EQ(r.friction_coefficient, 0.8);
   const SweepDesign back = SweepDesign::FromJson(d.ToJson());
   EXPECT_EQ(back.ToJson(), d.ToJson());
+}
+
+// The transfer anchors: a two-level design at 1/4 and 3/4 of each axis, the half fraction in
+// three dimensions (every pair of levels of two axes appears once), four points at most.
+TEST(SweepDesign, TransferAnchorsSpanTheBoxAtItsQuarters) {
+  const std::vector<MicroRatios> two = TransferAnchorPoints(DefaultSweepDesign(false));
+  ASSERT_EQ(two.size(), 4u);
+  std::set<std::pair<double, double>> corners;
+  for (const MicroRatios& r : two) corners.insert({r.tangential_to_normal_stiffness, r.shear_to_tensile_strength});
+  EXPECT_EQ(corners.size(), 4u);
+  EXPECT_TRUE(corners.count({0.15 + 0.25 * 0.75, 2.0 + 0.25 * 8.0}));
+  EXPECT_TRUE(corners.count({0.15 + 0.75 * 0.75, 2.0 + 0.75 * 8.0}));
+  const std::vector<MicroRatios> three = TransferAnchorPoints(DefaultSweepDesign(true, 0.45, 0.4));
+  ASSERT_EQ(three.size(), 4u);
+  std::set<std::pair<double, double>> pairs;
+  for (const MicroRatios& r : three) {
+    EXPECT_DOUBLE_EQ(r.particle_poisson_ratio, 0.45);
+    pairs.insert({r.tangential_to_normal_stiffness, r.normal_stiffness_to_particle});
+  }
+  EXPECT_EQ(pairs.size(), 4u);  // each (kt/kn, kn/(Ep l)) pair of levels once
 }
 
 TEST(SweepDesign, InvalidDesignsNameTheAxisAndRange) {

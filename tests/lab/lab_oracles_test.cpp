@@ -87,6 +87,11 @@ TEST(LabHexagonalLattice, O7ElasticConstantsFromUniaxialCompression) {
     EXPECT_NEAR(nu, o7.poisson, 0.005 * std::max(o7.poisson, 1.0 / 3.0));
     // Plane strain reading (design.md): nu = nu'/(1 + nu'), E = E'(1 - nu^2).
     EXPECT_NEAR(r.elastic.poisson_ratio, nu / (1.0 + nu), 1e-12);
+    // The linear portion (the ISRM average modulus, LinearPortionElasticConstants) of this
+    // intact, linear specimen is the same closed form.
+    ASSERT_TRUE(r.linear_elastic.measured);
+    EXPECT_NEAR(r.linear_elastic.youngs_modulus_in_plane_pa, o7.youngs * width, 0.005 * o7.youngs);
+    EXPECT_NEAR(r.linear_elastic.poisson_ratio_in_plane, o7.poisson, 0.005 * std::max(o7.poisson, 1.0 / 3.0));
     std::printf("O7 kt/kn %.2f: E' = %.5e Pa (closed form %.5e x %.4f), nu' = %.5f (%.5f), "
                 "%ld steps, %.2f s\n",
                 ratio, e, o7.youngs, width, nu, o7.poisson, r.steps, r.wall_seconds);
@@ -215,6 +220,56 @@ TEST_F(LabIrregularPacking, InertiaScalingKeepsTheElasticResponse) {
   deformable.particle_youngs_modulus_pa = kn / 0.2;
   deformable.particle_poisson_ratio = 0.35;
   compare("DDEM", deformable);
+}
+
+// The linear portion of a test to failure (LabTestResult::linear_elastic) ends before the
+// first broken bond, and gives what the same specimen gives intact: E and nu depend on the
+// stiffnesses only, not on the strengths (what separates a calibration's elastic and
+// strength stages). The strengths here put the first broken bond beyond the axial strain of
+// an elastic run (1.5e-3); where bonds break earlier, the intact part of a test to failure
+// is too short to read (the drive's start-up dominates), which is why the calibration reads
+// E and nu from elastic runs instead.
+TEST_F(LabIrregularPacking, LinearPortionIsTheIntactSpecimensAndIgnoresTheStrengths) {
+  const double kn = 1e10;
+  MaterialParameters intact = Unbreakable(kn, 0.2 * kn);
+  LabTestOptions options;
+  options.strain_boundary_margin = kMargin;
+  options.strain_limit = 1.5e-3;
+  options.sample_interval_steps = 50;
+  const LabTestResult elastic = RunLabTest<2>(*packing_, intact, options);
+  ASSERT_TRUE(elastic.linear_elastic.measured);
+  {
+    const double strength_ratio = 10.0;
+    MaterialParameters breaking = intact;
+    breaking.bond_tensile_strength_n = 6e3;
+    breaking.bond_shear_strength_n = strength_ratio * 6e3;
+    breaking.friction_coefficient = 0.8;
+    LabTestOptions to_failure = options;
+    to_failure.strain_limit = 0.05;
+    to_failure.post_peak_stress_fraction = 0.9;  // the peak is all this test needs
+    const LabTestResult r = RunLabTest<2>(*packing_, breaking, to_failure);
+    ASSERT_TRUE(r.peak_reached);
+    ASSERT_TRUE(r.linear_elastic.measured);
+    EXPECT_EQ(r.linear_elastic.broken_bonds_in_window, 0);
+    // Its samples end before the first sample with a broken bond.
+    double first_break_stress = 0.0;
+    for (const LabCurvePoint& p : r.curve)
+      if (p.broken_in_tension + p.broken_in_shear > 0) {
+        first_break_stress = p.control;
+        break;
+      }
+    EXPECT_GT(first_break_stress, 0.0);
+    EXPECT_LE(r.linear_elastic.window_high_pa, std::max(first_break_stress, r.peak_control));
+    std::printf("  Rt/Rn %.0f: peak %.4g MPa, first break at %.3g MPa; linear portion %.3g-%.3g MPa (%d samples), "
+                "E %.5g GPa, nu %.5f; intact run E %.5g GPa, nu %.5f; secant 1-50 %%: nu %.4f\n",
+                strength_ratio, r.peak_stress_pa / 1e6, first_break_stress / 1e6, r.linear_elastic.window_low_pa / 1e6, r.linear_elastic.window_high_pa / 1e6,
+                r.linear_elastic.samples_in_window, r.linear_elastic.youngs_modulus_pa / 1e9,
+                r.linear_elastic.poisson_ratio, elastic.linear_elastic.youngs_modulus_pa / 1e9,
+                elastic.linear_elastic.poisson_ratio, r.elastic.poisson_ratio);
+    EXPECT_NEAR(r.linear_elastic.youngs_modulus_pa, elastic.linear_elastic.youngs_modulus_pa,
+                0.005 * elastic.linear_elastic.youngs_modulus_pa);
+    EXPECT_NEAR(r.linear_elastic.poisson_ratio, elastic.linear_elastic.poisson_ratio, 0.003);
+  }
 }
 
 // Madan A14: K from the isotropic test and G from the pure shear test agree with those of the

@@ -1,0 +1,261 @@
+// CalibrationSummary's reports: the one-line brief, the full text report and the JSON
+// (calibration.h).
+#include <cstdio>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "calibrate/calibration.h"
+#include "specimen_version.h"
+
+namespace specimen {
+namespace {
+
+std::string Percent(double relative) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%+.2f %%", 100.0 * relative);
+  return text;
+}
+
+std::string Num(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof(text), format, value);
+  return text;
+}
+
+nlohmann::json RatiosJson(const MicroRatios& r) {
+  return {{"kt_over_kn", r.tangential_to_normal_stiffness},
+          {"rt_over_rn", r.shear_to_tensile_strength},
+          {"friction", r.friction_coefficient},
+          {"kn_over_ep_l", r.normal_stiffness_to_particle},
+          {"particle_poisson_ratio", r.particle_poisson_ratio}};
+}
+
+}  // namespace
+
+std::string CalibrationSummary::BriefReport() const {
+  char line[480];
+  if (rounds.empty()) return "calibration: no strength round run\n";
+  const VerificationRound& v = rounds[best_round - 1];
+  std::snprintf(line, sizeof(line),
+                "%dD %s calibration to '%s': E %s, nu %s, UCS %s, sigma_t %s%s (round %d of %zu, %zu elastic runs); "
+                "%s; stability %s; %.1f s",
+                dimension, model_used.c_str(), target.name.c_str(), Percent(v.error_youngs).c_str(),
+                Percent(v.error_poisson).c_str(), Percent(v.error_ucs).c_str(), Percent(v.error_tensile).c_str(),
+                tensile_honoured ? "" : " (given up)", best_round, rounds.size(), solution.elastic_runs.size(),
+                converged && !gave_up ? "converged" : (converged ? "converged on what is reachable" : "NOT converged"),
+                stability_verdict.c_str(), seconds);
+  return line;
+}
+
+std::string CalibrationSummary::FullReport() const {
+  std::ostringstream out;
+  char line[480];
+  auto row = [&](const char* label, const std::string& value) {
+    std::snprintf(line, sizeof(line), "  %-40s %s\n", label, value.c_str());
+    out << line;
+  };
+  out << "Calibration to material (" << dimension << "D)\n";
+  row("target", target.name + " (E " + Num("%.4g GPa", target.youngs_modulus_pa / 1e9) + ", nu " +
+                    Num("%.4g", target.poisson_ratio) + ", UCS " + Num("%.4g MPa", target.ucs_pa / 1e6) +
+                    ", sigma_t " + Num("%.4g MPa", target.tensile_strength_pa / 1e6) + ", ratio " +
+                    Num("%.3f", target.StrengthRatio()) + ")");
+  row("model", model_used + " (requested " + model_requested + "; " + model_reason + ")");
+  row("UCS specimen", std::to_string(ucs_descriptors.particles) + " particles, porosity " +
+                          Num("%.4f", ucs_descriptors.porosity) + ", nc " + Num("%.3f", ucs_descriptors.coordination));
+  row("Brazilian specimen", std::to_string(bts_descriptors.particles) + " particles, porosity " +
+                                Num("%.4f", bts_descriptors.porosity));
+  out << "maps\n";
+  row("file", maps_path.empty() ? "(not stored)" : maps_path);
+  row("reused", maps_reused ? "yes (built by " + maps.code_version + ", " + maps.created_utc + ")" : "no, built now");
+  int ok = 0, anchors = 0;
+  for (const SweepPoint& p : maps.points) ok += p.ok ? 1 : 0;
+  for (const VerifiedPoint& v : maps.verified) anchors += v.origin == "anchor" ? 1 : 0;
+  row("sweep points (succeeded / total)", std::to_string(ok) + " / " + std::to_string(maps.points.size()) + " on " +
+                                             std::to_string(maps.ucs_descriptors.particles) + " + " +
+                                             std::to_string(maps.bts_descriptors.particles) + " particles");
+  row("sweep wall time", Num("%.1f s", maps_reused ? maps.sweep_seconds : sweep_seconds) +
+                             (maps_reused ? " (when built)" : "") + ", transfer anchors included");
+  row("stored measurements on this specimen", std::to_string(stored_measurements) + " (" + std::to_string(anchors) +
+                                                  " transfer anchors), correcting the surfaces");
+  row("fit error nu (leave-one-out RMS)", Num("%.4f", maps.maps.poisson_ratio.leave_one_out_rms()));
+  auto relative_fit = [&](const ResponseSurface& surface, double SweepPoint::*group) {
+    double sum = 0.0;
+    int count = 0;
+    for (const SweepPoint& p : maps.points)
+      if (p.ok) sum += std::abs(p.*group), ++count;
+    return Num("%.2f %%", count > 0 && sum > 0 ? 100.0 * surface.leave_one_out_rms() * count / sum : 0.0);
+  };
+  row("fit error Psi_E / Psi_c / Psi_t (rel.)",
+      relative_fit(maps.maps.elastic_group, &SweepPoint::elastic_group) + " / " +
+          relative_fit(maps.maps.compressive_group, &SweepPoint::compressive_group) + " / " +
+          relative_fit(maps.maps.tensile_group, &SweepPoint::tensile_group));
+  out << "reach (measured on the UCS specimen before any strength test)\n";
+  if (rigid_reach.assessed) out << "  rigid: " << rigid_reach.Describe(target) << "\n";
+  if (deformable_reach.assessed)
+    out << "  DDEM (kn/(Ep l) <= " << Num("%.4g", admissible_particle_compliance)
+        << "): " << deformable_reach.Describe(target) << "\n";
+  out << "elastic stage (intact specimen: linear portion of a UCS with unbreakable bonds)\n";
+  for (const ElasticRun& r : solution.elastic_runs) {
+    std::snprintf(line, sizeof(line), "  %-6s kt/kn %.5g, kn/(Ep l) %.4g, kn %.5g N/m: E %.5g GPa, nu %.5f (%.1f s)\n",
+                  r.purpose.c_str(), r.query.ratios.tangential_to_normal_stiffness,
+                  r.query.ratios.normal_stiffness_to_particle, r.query.normal_stiffness,
+                  r.measured.youngs_modulus_pa / 1e9, r.measured.poisson_ratio, r.measured.seconds);
+    out << line;
+  }
+  out << "strength rounds (UCS and Brazilian; E, nu of the round's elastic set)\n";
+  for (const VerificationRound& v : rounds) {
+    std::snprintf(line, sizeof(line),
+                  "  round %d%s: Rt/Rn %.4g, Rn %.5g N: UCS %.4g MPa (%s), sigma_t %.4g MPa (%s), ratio %.3f; "
+                  "E %s, nu %s; %.0f s\n",
+                  v.round, v.round == best_round ? " (best)" : "", v.ratios.shear_to_tensile_strength,
+                  v.material.bond_tensile_strength_n, v.ucs_pa / 1e6, Percent(v.error_ucs).c_str(),
+                  v.tensile_strength_pa / 1e6, Percent(v.error_tensile).c_str(), v.ucs_pa / v.tensile_strength_pa,
+                  Percent(v.error_youngs).c_str(), Percent(v.error_poisson).c_str(), v.seconds);
+    out << line;
+    std::snprintf(line, sizeof(line), "           predicted UCS %.4g MPa, sigma_t %.4g MPa; secants over 1-50 %% of its peak: "
+                  "E %.4g GPa, nu %.4f\n",
+                  v.predicted_ucs_pa / 1e6, v.predicted_tensile_strength_pa / 1e6, v.own_peak_youngs_modulus_pa / 1e9,
+                  v.own_peak_poisson_ratio);
+    out << line;
+    if (!v.correction.empty()) out << "           next: " << v.correction << "\n";
+  }
+  if (!rounds.empty()) {
+    const VerificationRound& v = rounds[best_round - 1];
+    std::snprintf(line, sizeof(line), "  %-10s %14s %14s %10s\n", "", "target", "achieved", "error");
+    out << line;
+    auto compare = [&](const char* name, double t, double a, double e, const char* unit, double scale, bool kept) {
+      std::snprintf(line, sizeof(line), "  %-10s %10.4g %-3s %10.4g %-3s %10s%s\n", name, t / scale, unit, a / scale,
+                    unit, Percent(e).c_str(), kept ? "" : "  (given up)");
+      out << line;
+    };
+    auto kept = [&](const char* name) {
+      for (const std::string& g : solution.reach.given_up)
+        if (g == name) return false;
+      return true;
+    };
+    compare("E", target.youngs_modulus_pa, v.youngs_modulus_pa, v.error_youngs, "GPa", 1e9, true);
+    compare("nu", target.poisson_ratio, v.poisson_ratio, v.error_poisson, "", 1.0, kept("nu"));
+    compare("UCS", target.ucs_pa, v.ucs_pa, v.error_ucs, "MPa", 1e6, kept("UCS"));
+    compare("sigma_t", target.tensile_strength_pa, v.tensile_strength_pa, v.error_tensile, "MPa", 1e6,
+            kept("sigma_t"));
+  }
+  row("transfer error of the map specimens", "E " + Percent(solution.transfer_youngs) + ", nu " +
+                                                 Percent(solution.transfer_poisson) + ", UCS " +
+                                                 Percent(solution.transfer_ucs) + ", sigma_t " +
+                                                 Percent(solution.transfer_tensile) + " (first runs against the fitted surfaces)");
+  row("first prediction, corrected surfaces", "UCS " + Percent(solution.corrected_error_ucs) + ", sigma_t " +
+                                                  Percent(solution.corrected_error_tensile));
+  row("converged", converged ? (gave_up ? "yes, on every property kept" : "yes") : "no");
+  out << "parameters\n";
+  row("kn, kt [N/m]", Num("%.6g", material.normal_stiffness_n_per_m) + ", " + Num("%.6g", material.tangential_stiffness_n_per_m));
+  row("Rn, Rt [N]", Num("%.6g", material.bond_tensile_strength_n) + ", " + Num("%.6g", material.bond_shear_strength_n));
+  row("mu", Num("%.4g", material.friction_coefficient));
+  row("Ep [Pa], nu_p", material.particle_youngs_modulus_pa ? Num("%.6g", *material.particle_youngs_modulus_pa) + ", " +
+                                                                 Num("%.4g", material.particle_poisson_ratio)
+                                                           : "rigid particles");
+  row("density [kg/m^3]", Num("%.6g", material.density_kg_per_m3) + " (scaled in the tests: " +
+                              Num("%.6g", final_ucs.density_used_kg_per_m3) + ")");
+  out << "stability (UCS specimen, final set)\n";
+  row("verdict", stability_verdict + " (binding: " + stability_binding_limit + ", margin " +
+                     Num("%.1f %%", stability_margin_percent) + ")");
+  row("time step used / critical", Num("%.4g s", time_step_s) + " / " + Num("%.4g s", critical_time_step_s));
+  if (material.particle_youngs_modulus_pa) row("rho(B)", Num("%.4f", spectral_radius));
+  for (const std::string& note : notes) out << "  note: " << note << "\n";
+  row("wall time", Num("%.1f s", seconds));
+  return out.str();
+}
+
+nlohmann::json CalibrationSummary::ToJson() const {
+  nlohmann::json j;
+  j["dimension"] = dimension;
+  j["target"] = TargetMaterialToJson(target);
+  j["model"] = {{"requested", model_requested}, {"used", model_used}, {"reason", model_reason}};
+  j["specimens"] = {{"ucs", DescriptorsToJson(ucs_descriptors)}, {"bts", DescriptorsToJson(bts_descriptors)}};
+  int anchors = 0;
+  for (const VerifiedPoint& v : maps.verified) anchors += v.origin == "anchor" ? 1 : 0;
+  j["maps"] = {{"file", maps_path},
+               {"reused", maps_reused},
+               {"code_version", maps.code_version},
+               {"created_utc", maps.created_utc},
+               {"sweep_points", maps.points.size()},
+               {"sweep_seconds", sweep_seconds},
+               {"transfer_anchors", anchors},
+               {"stored_measurements_used", stored_measurements},
+               {"fit_leave_one_out_rms",
+                {{"poisson_ratio", maps.maps.poisson_ratio.leave_one_out_rms()},
+                 {"elastic_group", maps.maps.elastic_group.leave_one_out_rms()},
+                 {"compressive_group", maps.maps.compressive_group.leave_one_out_rms()},
+                 {"tensile_group", maps.maps.tensile_group.leave_one_out_rms()}}},
+               {"admissible_kn_over_ep_l", admissible_particle_compliance}};
+  j["reach"] = {{"rigid", rigid_reach.assessed ? rigid_reach.ToJson() : nlohmann::json()},
+                {"ddem", deformable_reach.assessed ? deformable_reach.ToJson() : nlohmann::json()},
+                {"used", solution.reach.ToJson()}};
+  j["elastic_runs"] = nlohmann::json::array();
+  for (const ElasticRun& r : solution.elastic_runs)
+    j["elastic_runs"].push_back({{"purpose", r.purpose},
+                                 {"ratios", RatiosJson(r.query.ratios)},
+                                 {"kn", r.query.normal_stiffness},
+                                 {"youngs_modulus_pa", r.measured.youngs_modulus_pa},
+                                 {"poisson_ratio", r.measured.poisson_ratio},
+                                 {"seconds", r.measured.seconds}});
+  j["verification"] = nlohmann::json::array();
+  for (const VerificationRound& v : rounds)
+    j["verification"].push_back({{"round", v.round},
+                                 {"best", v.round == best_round},
+                                 {"accepted", v.accepted},
+                                 {"ratios", RatiosJson(v.ratios)},
+                                 {"kn", v.material.normal_stiffness_n_per_m},
+                                 {"kt", v.material.tangential_stiffness_n_per_m},
+                                 {"rn", v.material.bond_tensile_strength_n},
+                                 {"rt", v.material.bond_shear_strength_n},
+                                 {"youngs_modulus_pa", v.youngs_modulus_pa},
+                                 {"poisson_ratio", v.poisson_ratio},
+                                 {"own_peak_secants", {{"youngs_modulus_pa", v.own_peak_youngs_modulus_pa},
+                                                       {"poisson_ratio", v.own_peak_poisson_ratio}}},
+                                 {"ucs_pa", v.ucs_pa},
+                                 {"tensile_strength_pa", v.tensile_strength_pa},
+                                 {"predicted", {{"ucs_pa", v.predicted_ucs_pa},
+                                                {"tensile_strength_pa", v.predicted_tensile_strength_pa}}},
+                                 {"relative_errors",
+                                  {{"youngs_modulus", v.error_youngs},
+                                   {"poisson_ratio", v.error_poisson},
+                                   {"ucs", v.error_ucs},
+                                   {"tensile_strength", v.error_tensile}}},
+                                 {"seconds", v.seconds},
+                                 {"next", v.correction}});
+  j["transfer_error"] = {{"youngs_modulus", solution.transfer_youngs},
+                         {"poisson_ratio", solution.transfer_poisson},
+                         {"ucs", solution.transfer_ucs},
+                         {"tensile_strength", solution.transfer_tensile},
+                         {"first_prediction_corrected",
+                          {{"ucs", solution.corrected_error_ucs}, {"tensile_strength", solution.corrected_error_tensile}}}};
+  j["converged"] = converged;
+  j["tensile_honoured"] = tensile_honoured;
+  j["given_up"] = solution.reach.given_up;
+  j["replans"] = solution.replans;
+  nlohmann::json parameters = {{"normal_stiffness_n_per_m", material.normal_stiffness_n_per_m},
+                               {"tangential_stiffness_n_per_m", material.tangential_stiffness_n_per_m},
+                               {"bond_tensile_strength_n", material.bond_tensile_strength_n},
+                               {"bond_shear_strength_n", material.bond_shear_strength_n},
+                               {"friction_coefficient", material.friction_coefficient},
+                               {"density_kg_per_m3", material.density_kg_per_m3}};
+  if (material.particle_youngs_modulus_pa) {
+    parameters["particle_youngs_modulus_pa"] = *material.particle_youngs_modulus_pa;
+    parameters["particle_poisson_ratio"] = material.particle_poisson_ratio;
+  }
+  j["parameters"] = parameters;
+  j["stability"] = {{"verdict", stability_verdict},
+                    {"binding_limit", stability_binding_limit},
+                    {"margin_percent", stability_margin_percent},
+                    {"message", stability_message},
+                    {"critical_time_step_s", critical_time_step_s},
+                    {"time_step_s", time_step_s},
+                    {"spectral_radius", spectral_radius}};
+  j["notes"] = notes;
+  j["seconds"] = seconds;
+  j["code_version"] = kVersion;
+  return j;
+}
+
+}  // namespace specimen

@@ -1,0 +1,96 @@
+#include "calibrate/lab_forward_model.h"
+
+#include <atomic>
+#include <chrono>
+#include <future>
+#include <limits>
+#include <thread>
+
+#include "calibrate/map_sweep.h"
+#include "common/error.h"
+
+namespace specimen {
+
+template <int Dim>
+LabForwardModel<Dim>::LabForwardModel(const Packing<Dim>& ucs, const Packing<Dim>& bts,
+                                      LabForwardModelSettings settings)
+    : ucs_(ucs), bts_(bts), settings_(std::move(settings)) {
+  if (!(settings_.density_kg_per_m3 > 0.0)) throw InputError("forward model: density must be > 0");
+  if (settings_.workers < 1) throw InputError("forward model: workers must be >= 1");
+}
+
+template <int Dim>
+MaterialParameters LabForwardModel<Dim>::MaterialFor(double kn, double rn, const MicroRatios& ratios) const {
+  return MaterialAt(ratios, kn, rn, settings_.density_kg_per_m3, settings_.plane_model, settings_.group_length_m);
+}
+
+template <int Dim>
+std::vector<ElasticMeasurement> LabForwardModel<Dim>::MeasureElastic(const std::vector<ElasticQuery>& queries) {
+  std::vector<ElasticMeasurement> out(queries.size());
+  std::atomic<size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex mutex;
+  auto work = [&]() {
+    for (;;) {
+      const size_t k = next++;
+      if (k >= queries.size()) return;
+      try {
+        const MaterialParameters m = MaterialFor(queries[k].normal_stiffness, 1.0, queries[k].ratios);
+        out[k] = MeasureIntactElasticConstants<Dim>(ucs_, m, settings_.protocol);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!failure) failure = std::current_exception();
+        return;
+      }
+    }
+  };
+  const int workers = std::min<int>(settings_.workers, static_cast<int>(queries.size()));
+  std::vector<std::thread> threads;
+  for (int w = 1; w < workers; ++w) threads.emplace_back(work);
+  work();
+  for (auto& t : threads) t.join();
+  if (failure) std::rethrow_exception(failure);
+  return out;
+}
+
+template <int Dim>
+StrengthMeasurement LabForwardModel<Dim>::MeasureStrength(double kn, double rn, const MicroRatios& ratios) {
+  const auto start = std::chrono::steady_clock::now();
+  RoundTests tests;
+  tests.material = MaterialFor(kn, rn, ratios);
+  LabTestOptions test = settings_.protocol;
+  test.num_threads = 1;
+  test.check_quasi_static = false;
+  test.record_snapshots = true;
+  test.progress = nullptr;
+  if (test.strain_limit == 0.0) test.strain_limit = 0.05;  // as the sweep (map_sweep.cpp)
+  LabTestOptions ucs_test = test, bts_test = test;
+  ucs_test.kind = LabTestKind::kUniaxialCompression;
+  bts_test.kind = LabTestKind::kBrazilian;
+  if (settings_.progress) ucs_test.progress = [&](double f, const std::string& m) { settings_.progress(f, "UCS: " + m); };
+  auto bts = std::async(std::launch::async, [&]() { return RunLabTest<Dim>(bts_, tests.material, bts_test); });
+  tests.ucs = RunLabTest<Dim>(ucs_, tests.material, ucs_test);
+  tests.bts = bts.get();
+  if (!tests.ucs.peak_reached || !tests.bts.peak_reached)
+    throw ComputationError(std::string("the ") + (!tests.ucs.peak_reached ? "UCS" : "Brazilian") +
+                           " test reached its strain limit without a peak");
+  StrengthMeasurement m;
+  m.ucs_pa = tests.ucs.peak_stress_pa;
+  m.tensile_strength_pa = tests.bts.tensile_strength_pa;
+  if (tests.ucs.linear_elastic.measured) {
+    m.linear_youngs_modulus_pa = tests.ucs.linear_elastic.youngs_modulus_pa;
+    m.linear_poisson_ratio = tests.ucs.linear_elastic.poisson_ratio;
+  }
+  if (tests.ucs.elastic.measured) {
+    m.secant_youngs_modulus_pa = tests.ucs.elastic.youngs_modulus_pa;
+    m.secant_poisson_ratio = tests.ucs.elastic.poisson_ratio;
+  }
+  m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  strength_tests_.push_back(std::move(tests));
+  return m;
+}
+
+template class LabForwardModel<2>;
+template class LabForwardModel<3>;
+
+}  // namespace specimen

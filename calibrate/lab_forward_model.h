@@ -1,0 +1,60 @@
+#pragma once
+// The forward model of a calibration on real specimens (forward_model.h): the virtual
+// laboratory (solver/lab_test.h) on the UCS specimen and the Brazilian disc.
+//
+//  - Elastic runs (intact_elastic.h), two at once on two workers.
+//  - Strength rounds: the UCS and the Brazilian test at once, one solver thread each, as the
+//    map sweep runs them.
+//
+//   LabForwardModel<2> model(specimens.ucs, specimens.bts, settings);
+//   ElasticMeasurement e = model.MeasureElastic({{kn, ratios}}).front();
+
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "calibrate/forward_model.h"
+#include "calibrate/intact_elastic.h"
+#include "common/progress.h"
+#include "generator/packing.h"
+#include "solver/lab_test.h"
+#include "solver/material.h"
+
+namespace specimen {
+
+struct LabForwardModelSettings {
+  LabTestOptions protocol;       // of every test (kind, strain limit, progress set per test)
+  double density_kg_per_m3 = 0;  // rho of the target, > 0 (scaled per test when the protocol says)
+  PlaneModel plane_model = PlaneModel::kPlaneStrain;
+  double group_length_m = 1.0;   // l of kn/(Ep l): 1 m in 2D, the mean radius in 3D
+  int workers = 2;               // elastic runs at once, >= 1
+  ProgressCallback progress;     // may be empty
+};
+
+template <int Dim>
+class LabForwardModel : public ForwardModel {
+ public:
+  // The packings must outlive the model.
+  LabForwardModel(const Packing<Dim>& ucs_specimen, const Packing<Dim>& bts_specimen, LabForwardModelSettings settings);
+
+  std::vector<ElasticMeasurement> MeasureElastic(const std::vector<ElasticQuery>& queries) override;
+  StrengthMeasurement MeasureStrength(double normal_stiffness, double bond_tensile_strength,
+                                      const MicroRatios& ratios) override;
+
+  // The tests of every strength round so far, in order (for the outputs of the best one).
+  struct RoundTests {
+    MaterialParameters material;
+    LabTestResult ucs, bts;
+  };
+  const std::vector<RoundTests>& strength_tests() const { return strength_tests_; }
+  MaterialParameters MaterialFor(double normal_stiffness, double bond_tensile_strength,
+                                 const MicroRatios& ratios) const;
+
+ private:
+  const Packing<Dim>& ucs_;
+  const Packing<Dim>& bts_;
+  LabForwardModelSettings settings_;
+  std::vector<RoundTests> strength_tests_;
+};
+
+}  // namespace specimen

@@ -1,0 +1,144 @@
+#include "calibrate/surrogate.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.h"
+
+namespace specimen {
+
+CalibrationSurrogate::CalibrationSurrogate(const MapSet& maps, const PackingDescriptors& ucs,
+                                           const PackingDescriptors& bts)
+    : maps_(maps), lower_(maps.Lower()), upper_(maps.Upper()) {
+  if (maps_.inputs.empty()) throw InputError("the maps have no varying micro ratio");
+  for (MicroRatio r : maps_.inputs)
+    strength_only_.push_back(r == MicroRatio::kStrengthRatio || r == MicroRatio::kFriction);
+  // Labra (4.49), (4.56), (4.57) solved for E / kn and sigma / Rn.
+  youngs_factor_ = ucs.SolidCoordination() / ucs.CharacteristicRadius();
+  ucs_factor_ = ucs.SolidCoordination() / ucs.CharacteristicArea();
+  tensile_factor_ = bts.SolidCoordination() / bts.CharacteristicArea();
+}
+
+Eigen::VectorXd CalibrationSurrogate::Inputs(const MicroRatios& ratios) const {
+  const std::vector<double> x = maps_.InputsOf(ratios);
+  Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
+  return v.cwiseMax(lower_).cwiseMin(upper_);
+}
+
+Eigen::VectorXd CalibrationSurrogate::Scaled(const Eigen::VectorXd& inputs) const {
+  Eigen::VectorXd s(inputs.size());
+  for (Eigen::Index k = 0; k < inputs.size(); ++k) {
+    const double width = upper_[k] - lower_[k];
+    s[k] = width > 0.0 ? (inputs[k] - lower_[k]) / width : 0.0;
+  }
+  return s;
+}
+
+double CalibrationSurrogate::MapValue(Quantity q, const Eigen::VectorXd& x) const {
+  switch (q) {
+    case kElastic: return std::log(std::max(1e-12, maps_.elastic_group.Evaluate(x)) * youngs_factor_);
+    case kPoisson: return maps_.poisson_ratio.Evaluate(x);
+    case kCompressive: return std::log(std::max(1e-12, maps_.compressive_group.Evaluate(x)) * ucs_factor_);
+    case kTensile: return std::log(std::max(1e-12, maps_.tensile_group.Evaluate(x)) * tensile_factor_);
+  }
+  return 0.0;
+}
+
+void CalibrationSurrogate::AddMeasurement(const SurrogateMeasurement& m, bool stored) {
+  Anchor a;
+  const Eigen::VectorXd x = Inputs(m.ratios);
+  a.scaled = Scaled(x);
+  a.weight = stored ? kStoredWeight : 1.0;
+  a.stored = stored;
+  if (m.youngs_per_stiffness > 0.0) {
+    a.has_elastic = true;
+    a.delta[kElastic] = std::log(m.youngs_per_stiffness) - MapValue(kElastic, x);
+    a.delta[kPoisson] = m.poisson_ratio - MapValue(kPoisson, x);
+  }
+  if (m.ucs_per_strength > 0.0 && m.tensile_per_strength > 0.0) {
+    a.has_strength = true;
+    a.delta[kCompressive] = std::log(m.ucs_per_strength) - MapValue(kCompressive, x);
+    a.delta[kTensile] = std::log(m.tensile_per_strength) - MapValue(kTensile, x);
+  }
+  if (a.has_elastic || a.has_strength) points_.push_back(a);
+}
+
+double CalibrationSurrogate::Correction(Quantity q, const Eigen::VectorXd& x, const MicroRatio* line) const {
+  const bool elastic = q == kElastic || q == kPoisson;
+  const Eigen::VectorXd s = Scaled(x);
+  int line_input = -1;
+  if (line)
+    for (size_t k = 0; k < maps_.inputs.size(); ++k)
+      if (maps_.inputs[k] == *line) line_input = static_cast<int>(k);
+  double sum = 0.0, weights = 0.0;
+  for (const Anchor& a : points_) {
+    if (elastic ? !a.has_elastic : !a.has_strength) continue;
+    double d2 = 0.0, off_line = 0.0;
+    for (Eigen::Index k = 0; k < s.size(); ++k) {
+      if (elastic && strength_only_[k]) continue;
+      const double d = (s[k] - a.scaled[k]) * (s[k] - a.scaled[k]);
+      d2 += d;
+      if (k != line_input) off_line += d;
+    }
+    if (line && off_line <= 1e-18) continue;  // on the line
+    const double w = a.weight / (d2 + kSmoothing * kSmoothing);
+    sum += w * a.delta[q];
+    weights += w;
+  }
+  return weights > 0.0 ? sum / weights : 0.0;
+}
+
+double CalibrationSurrogate::YoungsPerStiffness(const MicroRatios& r, const MicroRatio* line) const {
+  const Eigen::VectorXd x = Inputs(r);
+  return std::exp(MapValue(kElastic, x) + Correction(kElastic, x, line));
+}
+double CalibrationSurrogate::Poisson(const MicroRatios& r, const MicroRatio* line) const {
+  const Eigen::VectorXd x = Inputs(r);
+  return MapValue(kPoisson, x) + Correction(kPoisson, x, line);
+}
+double CalibrationSurrogate::UcsPerStrength(const MicroRatios& r, const MicroRatio* line) const {
+  const Eigen::VectorXd x = Inputs(r);
+  return std::exp(MapValue(kCompressive, x) + Correction(kCompressive, x, line));
+}
+double CalibrationSurrogate::TensilePerStrength(const MicroRatios& r, const MicroRatio* line) const {
+  const Eigen::VectorXd x = Inputs(r);
+  return std::exp(MapValue(kTensile, x) + Correction(kTensile, x, line));
+}
+
+double CalibrationSurrogate::MapYoungsPerStiffness(const MicroRatios& r) const {
+  return std::exp(MapValue(kElastic, Inputs(r)));
+}
+double CalibrationSurrogate::MapPoisson(const MicroRatios& r) const { return MapValue(kPoisson, Inputs(r)); }
+double CalibrationSurrogate::MapUcsPerStrength(const MicroRatios& r) const {
+  return std::exp(MapValue(kCompressive, Inputs(r)));
+}
+double CalibrationSurrogate::MapTensilePerStrength(const MicroRatios& r) const {
+  return std::exp(MapValue(kTensile, Inputs(r)));
+}
+
+std::vector<double> CalibrationSurrogate::StoredStrengthRatioCorrections() const {
+  std::vector<double> out;
+  for (const Anchor& a : points_)
+    if (a.stored && a.has_strength) out.push_back(a.delta[kCompressive] - a.delta[kTensile]);
+  return out;
+}
+
+bool CalibrationSurrogate::Varies(MicroRatio ratio) const {
+  for (size_t k = 0; k < maps_.inputs.size(); ++k)
+    if (maps_.inputs[k] == ratio) return upper_[k] > lower_[k];
+  return false;
+}
+
+double CalibrationSurrogate::Lower(MicroRatio ratio) const {
+  for (size_t k = 0; k < maps_.inputs.size(); ++k)
+    if (maps_.inputs[k] == ratio) return lower_[k];
+  return RatioValue(maps_.fixed, ratio);
+}
+
+double CalibrationSurrogate::Upper(MicroRatio ratio) const {
+  for (size_t k = 0; k < maps_.inputs.size(); ++k)
+    if (maps_.inputs[k] == ratio) return upper_[k];
+  return RatioValue(maps_.fixed, ratio);
+}
+
+}  // namespace specimen
