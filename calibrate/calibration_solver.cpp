@@ -601,19 +601,34 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
               (above ? rr < log_ratio - slack : rr > log_ratio + slack))
             measured_at_end = true;
         }
-        // The maps' trend towards that end must be measured too (two rounds 10 % of the box
-        // apart, the one nearer the end nearer the target): where it is not, a probe a
-        // quarter of the box inwards measures it, since a map can have it wrong.
-        bool trend_measured = false;
-        for (const StrengthRound& a : rounds)
-          for (const StrengthRound& b : rounds) {
-            if (a.elastic_set != line_id || b.elastic_set != line_id) continue;
-            const double da = std::abs(Get(a.ratios, kX) - end), db = std::abs(Get(b.ratios, kX) - end);
-            if (!(db - da >= 0.1 * width)) continue;  // a nearer the end than b
-            const double ra = std::log(a.measured.ucs_pa / a.measured.tensile_strength_pa);
-            const double rb = std::log(b.measured.ucs_pa / b.measured.tensile_strength_pa);
-            if (above ? ra >= rb : ra <= rb) trend_measured = true;
-          }
+        // The maps' trend towards that end must be measured too: two rounds 10 % of the box
+        // apart, the one nearer the end nearer the target, or two stored measurements at
+        // one elastic set whose ratio moves the same way along Rt/Rn. Where it is not, a
+        // probe a quarter of the box inwards measures it, since a map can have it wrong.
+        struct Sample {
+          MicroRatios ratios;
+          double log_ratio;
+        };
+        std::vector<Sample> line_samples, stored_samples;
+        for (const StrengthRound& r : rounds)
+          if (r.elastic_set == line_id)
+            line_samples.push_back({r.ratios, std::log(r.measured.ucs_pa / r.measured.tensile_strength_pa)});
+        for (const SurrogateMeasurement& m : surrogate_.stored_measurements())
+          if (m.ucs_per_strength > 0.0 && m.tensile_per_strength > 0.0)
+            stored_samples.push_back({m.ratios, std::log(m.ucs_per_strength / m.tensile_per_strength)});
+        // Towards the end (in the direction of growing Rt/Rn when the end is the upper one).
+        const double toward = end > 0.5 * (x_lo + x_hi) ? 1.0 : -1.0;
+        auto trend_in = [&](const std::vector<Sample>& samples) {
+          for (const Sample& a : samples)
+            for (const Sample& b : samples) {
+              if (!SameElastic(a.ratios, b.ratios)) continue;
+              const double step = toward * (Get(a.ratios, kX) - Get(b.ratios, kX));  // a nearer the end
+              if (!(step >= 0.1 * width)) continue;
+              if (above ? a.log_ratio >= b.log_ratio : a.log_ratio <= b.log_ratio) return true;
+            }
+          return false;
+        };
+        const bool trend_measured = trend_in(line_samples) || trend_in(stored_samples);
         if (measured_at_end && !trend_measured && round < options_.max_strength_rounds) {
           probe_x = std::clamp(end + (end > 0.5 * (x_lo + x_hi) ? -0.25 : 0.25) * width, x_lo, x_hi);
           measured_at_end = false;

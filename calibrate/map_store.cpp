@@ -109,6 +109,13 @@ StoredMaps StoredMaps::FromJson(const nlohmann::json& j) {
     throw InputError("map file: dimension = " + std::to_string(s.dimension) + ", allowed 2 or 3");
   if (s.maps.poisson_ratio.inputs() != static_cast<int>(s.maps.inputs.size()))
     throw InputError("map file: the surfaces do not match the design's inputs");
+  // Surfaces stored by a program that fitted the strength groups linearly: the points are
+  // the measurement, the surfaces only their fit, so they are fitted again as now.
+  if (!s.maps.compressive_group.log_values() || !s.maps.tensile_group.log_values()) {
+    MapSweep sweep;
+    sweep.points = s.points;
+    s.maps = FitMaps(sweep, s.design, s.max_total_degree);
+  }
   return s;
 }
 

@@ -446,8 +446,10 @@ MapSet FitMaps(const MapSweep& sweep, const SweepDesign& design, int max_total_d
   try {
     maps.poisson_ratio = ResponseSurface::Fit(x_elastic, nu, fit);
     maps.elastic_group = ResponseSurface::Fit(x_elastic, psi_e, fit);
-    maps.compressive_group = ResponseSurface::Fit(x, psi_c, fit);
-    maps.tensile_group = ResponseSurface::Fit(x, psi_t, fit);
+    ResponseSurfaceOptions strength_fit = fit;
+    strength_fit.log_values = true;  // the strength groups: in logarithms (response_surface.h)
+    maps.compressive_group = ResponseSurface::Fit(x, psi_c, strength_fit);
+    maps.tensile_group = ResponseSurface::Fit(x, psi_t, strength_fit);
   } catch (const InputError& e) {
     throw InputError("cannot fit the maps: " + std::to_string(ok.size()) + " of " +
                      std::to_string(sweep.points.size()) + " sweep points succeeded (" + e.what() +

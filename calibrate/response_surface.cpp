@@ -61,6 +61,11 @@ ResponseSurface ResponseSurface::Fit(const Eigen::MatrixXd& points, const Eigen:
     throw InputError("response surface: no points to fit (" + std::to_string(points.rows()) + " points, " +
                      std::to_string(points.cols()) + " inputs)");
   ResponseSurface s;
+  s.log_values_ = options.log_values;
+  if (options.log_values && !(values.minCoeff() > 0.0))
+    throw InputError("response surface: a logarithmic fit needs positive values (smallest " +
+                     std::to_string(values.minCoeff()) + ")");
+  const Eigen::VectorXd fitted_values = options.log_values ? Eigen::VectorXd(values.array().log()) : values;
   const int inputs = static_cast<int>(points.cols());
   s.lower_ = points.colwise().minCoeff().transpose();
   s.upper_ = points.colwise().maxCoeff().transpose();
@@ -82,23 +87,31 @@ ResponseSurface ResponseSurface::Fit(const Eigen::MatrixXd& points, const Eigen:
   Eigen::MatrixXd normal = a.transpose() * a;
   normal.diagonal().array() += options.ridge * points.rows();
   const Eigen::LDLT<Eigen::MatrixXd> solver(normal);
-  s.coefficients_ = solver.solve(a.transpose() * values);
-  const Eigen::VectorXd residual = a * s.coefficients_ - values;
-  s.rms_residual_ = std::sqrt(residual.squaredNorm() / values.size());
-  s.max_residual_ = residual.cwiseAbs().maxCoeff();
-  // PRESS: the leave-one-out residual of point i is r_i / (1 - h_ii), h = A (A^T A)^-1 A^T.
-  double press = 0.0;
+  s.coefficients_ = solver.solve(a.transpose() * fitted_values);
+  const Eigen::VectorXd residual = a * s.coefficients_ - fitted_values;
+  // In the units of the values: a log fit's prediction is exp of the polynomial.
+  auto value_of = [&](int i, double fitted_residual) {
+    const double predicted = fitted_values[i] + fitted_residual;
+    return (options.log_values ? std::exp(predicted) : predicted) - values[i];
+  };
+  double sum = 0.0, press = 0.0;
   for (int i = 0; i < a.rows(); ++i) {
+    const double r = value_of(i, residual[i]);
+    sum += r * r;
+    s.max_residual_ = std::max(s.max_residual_, std::abs(r));
+    // PRESS: the leave-one-out residual of point i is r_i / (1 - h_ii), h = A (A^T A)^-1 A^T.
     const double leverage = a.row(i).dot(solver.solve(a.row(i).transpose()));
     const double denominator = std::max(1.0 - leverage, 1e-12);
-    press += std::pow(residual[i] / denominator, 2);
+    press += std::pow(value_of(i, residual[i] / denominator), 2);
   }
+  s.rms_residual_ = std::sqrt(sum / values.size());
   s.leave_one_out_rms_ = std::sqrt(press / values.size());
   return s;
 }
 
 double ResponseSurface::Evaluate(const Eigen::VectorXd& input) const {
-  return Basis(Scale(input)).dot(coefficients_);
+  const double polynomial = Basis(Scale(input)).dot(coefficients_);
+  return log_values_ ? std::exp(polynomial) : polynomial;
 }
 
 Eigen::VectorXd ResponseSurface::Gradient(const Eigen::VectorXd& input) const {
@@ -113,7 +126,7 @@ Eigen::VectorXd ResponseSurface::Gradient(const Eigen::VectorXd& input) const {
       gradient[k] += term * 2.0 / (upper_[k] - lower_[k]);
     }
   }
-  return gradient;
+  return log_values_ ? Eigen::VectorXd(gradient * Evaluate(input)) : gradient;
 }
 
 bool ResponseSurface::InDomain(const Eigen::VectorXd& input, double tolerance) const {
@@ -133,6 +146,7 @@ nlohmann::json ResponseSurface::ToJson() const {
   j["rms_residual"] = rms_residual_;
   j["max_residual"] = max_residual_;
   j["leave_one_out_rms"] = leave_one_out_rms_;
+  j["log_values"] = log_values_;
   return j;
 }
 
@@ -149,6 +163,7 @@ ResponseSurface ResponseSurface::FromJson(const nlohmann::json& j) {
     s.rms_residual_ = j.at("rms_residual").get<double>();
     s.max_residual_ = j.at("max_residual").get<double>();
     s.leave_one_out_rms_ = j.at("leave_one_out_rms").get<double>();
+    s.log_values_ = j.value("log_values", false);
   } catch (const nlohmann::json::exception& e) {
     throw FileError(std::string("response surface: ") + e.what());
   }

@@ -61,6 +61,7 @@ void CalibrationSurrogate::AddMeasurement(const SurrogateMeasurement& m, bool st
     a.delta[kTensile] = std::log(m.tensile_per_strength) - MapValue(kTensile, x);
   }
   if (a.has_elastic || a.has_strength) points_.push_back(a);
+  if (stored) stored_.push_back(m);
 }
 
 double CalibrationSurrogate::Correction(Quantity q, const Eigen::VectorXd& x, const MicroRatio* line) const {

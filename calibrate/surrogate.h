@@ -77,6 +77,8 @@ class CalibrationSurrogate {
   // ln(sigma_c / sigma_t) measured minus the surfaces' value, at each stored measurement with
   // strengths: how far, and how uniformly, the ratio transfers from the map specimens.
   std::vector<double> StoredStrengthRatioCorrections() const;
+  // The measurements stored with the maps, as given.
+  const std::vector<SurrogateMeasurement>& stored_measurements() const { return stored_; }
 
   const MapSet& maps() const { return maps_; }
   // The box of a ratio in the maps (lower == upper == the fixed value when it does not vary).
@@ -104,6 +106,7 @@ class CalibrationSurrogate {
   double youngs_factor_ = 0.0;       // E / kn = Psi_E x this
   double ucs_factor_ = 0.0, tensile_factor_ = 0.0;  // sigma / Rn = Psi x these
   std::vector<Anchor> points_;
+  std::vector<SurrogateMeasurement> stored_;
 };
 
 }  // namespace specimen

@@ -40,6 +40,39 @@ TEST(ResponseSurface, ReproducesAPolynomialExactly) {
   EXPECT_FALSE(s.InDomain(x));
 }
 
+// A logarithmic fit (ResponseSurfaceOptions::log_values) reproduces exp of a quadratic
+// exactly, with its gradient, survives JSON, and refuses non-positive values.
+TEST(ResponseSurface, LogarithmicFitReproducesAnExponentialOfAPolynomial) {
+  auto g = [](double a, double b) { return 0.2 + 1.5 * a + 0.1 * b - 0.4 * a * a + 0.05 * a * b; };
+  Eigen::MatrixXd points(16, 2);
+  Eigen::VectorXd values(16);
+  int k = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j, ++k) {
+      points(k, 0) = 0.15 + 0.25 * i;
+      points(k, 1) = 2.0 + 8.0 * j / 3.0;
+      values[k] = std::exp(g(points(k, 0), points(k, 1)));
+    }
+  ResponseSurfaceOptions options;
+  options.max_total_degree = 2;
+  options.ridge = 0.0;
+  options.log_values = true;
+  const auto s = ResponseSurface::Fit(points, values, options);
+  EXPECT_TRUE(s.log_values());
+  EXPECT_LT(s.max_residual(), 1e-9);
+  Eigen::VectorXd x(2);
+  x << 0.5, 7.3;
+  const double v = std::exp(g(0.5, 7.3));
+  EXPECT_NEAR(s.Evaluate(x), v, 1e-9 * v);
+  EXPECT_NEAR(s.Gradient(x)[0], v * (1.5 - 0.8 * 0.5 + 0.05 * 7.3), 1e-8 * v);
+  EXPECT_NEAR(s.Gradient(x)[1], v * (0.1 + 0.05 * 0.5), 1e-8 * v);
+  const auto back = ResponseSurface::FromJson(s.ToJson());
+  EXPECT_TRUE(back.log_values());
+  EXPECT_DOUBLE_EQ(back.Evaluate(x), s.Evaluate(x));
+  values[3] = 0.0;
+  EXPECT_THROW(ResponseSurface::Fit(points, values, options), InputError);
+}
+
 // With noise, the leave-one-out error estimates the true prediction error, and round trip
 // through JSON preserves every prediction.
 TEST(ResponseSurface, NoisyDataAndJsonRoundTrip) {
