@@ -121,7 +121,7 @@ std::string MapsScript(const StoredMaps& stored, const MicroRatios& chosen,
       << GnuplotQuote(curves_csv) << " every ::1 using ($1==" << axis << " ? $2 : 1/0):" << curve_col
       << " with lines lw 2 lc rgb '#202020' title 'fitted surface', "
       << "'-' using 1:2 with points pt 9 ps 2.5 lc rgb '#d02020' title 'chosen'\n"
-      << Exact(cx) << " " << Exact(cy) << "\ne\n";
+      << Exact(cx) << "," << Exact(cy) << "\ne\n";
   };
   panel(a, "nu (2D: plane strain)", ca, "$9", stiffness_axis, "3", x[stiffness_axis], nu);
   panel(a, "Psi_E = E r~ / (kn nc (1-e))", ca, "$13", stiffness_axis, "4", x[stiffness_axis], psi_e);
@@ -168,6 +168,23 @@ void WriteReachCsv(const CalibrationSummary& summary, std::ostream& out) {
       out << (reach->deformable ? "ddem" : "rigid") << "," << r.stiffness_ratio << "," << r.particle_compliance << ","
           << r.poisson_ratio << "," << r.strength_ratio_min << "," << r.strength_ratio_max << "\n";
   }
+}
+
+// The reach region of each model assessed: at each elastic set of the box, the nu it gives
+// and the interval of sigma_c / sigma_t over Rt/Rn (a vertical segment), with the target.
+std::string ReachScript(const CalibrationSummary& summary, const std::string& reach_csv) {
+  std::ostringstream s;
+  const std::string f = GnuplotQuote(reach_csv);
+  s << "set datafile separator ','\nset key top left\nset grid\nset logscale y\n";
+  s << "set title 'Reach on this specimen: nu (measured at the corners) and sigma_c / sigma_t (corrected maps)'\n";
+  s << "set xlabel 'nu" << (summary.dimension == 2 ? " (plane strain)" : "") << "'\nset ylabel 'sigma_c / sigma_t'\n";
+  s << "plot " << f << " every ::1 using ((strcol(1) eq 'rigid') ? $4 : 1/0):5:(0):($6-$5) with vectors nohead lw 3 "
+    << "lc rgb '#4060a0' title 'rigid particles', " << f
+    << " every ::1 using ((strcol(1) eq 'ddem') ? $4 : 1/0):5:(0):($6-$5) with vectors nohead lw 2 "
+    << "lc rgb '#d08020' title 'DDEM', "
+    << "'-' using 1:2 with points pt 3 ps 3 lw 2 lc rgb '#d02020' title 'target'\n"
+    << Exact(summary.target.poisson_ratio) << "," << Exact(summary.target.StrengthRatio()) << "\ne\n";
+  return s.str();
 }
 
 // The error of every property against the strength round (E, nu: the round's elastic set).
@@ -277,6 +294,10 @@ CalibrationOutputsWritten WriteCalibrationOutputs(const CalibrationSummary& summ
     plot.height_px = 1000;
     if (RenderGnuplot(script, base + "_maps.png", plot, &error)) written.files.push_back(base + "_maps.png");
     else written.warnings.push_back("maps picture skipped: " + error);
+    if (RenderGnuplot(ReachScript(summary, base + "_reach.csv"), base + "_reach.png", PlotOptions(), &error))
+      written.files.push_back(base + "_reach.png");
+    else
+      written.warnings.push_back("reach picture skipped: " + error);
     if (RenderGnuplot(ConvergenceScript(summary, options, base + "_verification.csv"), base + "_convergence.png", PlotOptions(),
                       &error))
       written.files.push_back(base + "_convergence.png");

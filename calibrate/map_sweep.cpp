@@ -198,13 +198,13 @@ SweepDesign DefaultSweepDesign(bool deformable, double particle_poisson_ratio,
   d.fixed.shear_to_tensile_strength = 10.0;
   d.fixed.tangential_to_normal_stiffness = 0.25;
   if (!deformable) {
-    d.axes = {{MicroRatio::kStiffnessRatio, 0.15, 0.9, 4}, {MicroRatio::kStrengthRatio, 2.0, 10.0, 3}};
+    d.axes = {{MicroRatio::kStiffnessRatio, 0.15, 0.9, 4}, {MicroRatio::kStrengthRatio, 1.0, 10.0, 3}};
     return d;
   }
   d.fixed.particle_poisson_ratio = particle_poisson_ratio;
   d.axes = {{MicroRatio::kStiffnessRatio, 0.15, 0.6, 3},
             {MicroRatio::kParticleCompliance, 0.0, largest_particle_compliance, 3},
-            {MicroRatio::kStrengthRatio, 2.0, 10.0, 3}};
+            {MicroRatio::kStrengthRatio, 1.0, 10.0, 3}};
   return d;
 }
 

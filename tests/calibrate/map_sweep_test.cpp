@@ -82,8 +82,8 @@ TEST(SweepDesign, TransferAnchorsSpanTheBoxAtItsQuarters) {
   std::set<std::pair<double, double>> corners;
   for (const MicroRatios& r : two) corners.insert({r.tangential_to_normal_stiffness, r.shear_to_tensile_strength});
   EXPECT_EQ(corners.size(), 4u);
-  EXPECT_TRUE(corners.count({0.15 + 0.25 * 0.75, 2.0 + 0.25 * 8.0}));
-  EXPECT_TRUE(corners.count({0.15 + 0.75 * 0.75, 2.0 + 0.75 * 8.0}));
+  EXPECT_TRUE(corners.count({0.15 + 0.25 * 0.75, 1.0 + 0.25 * 9.0}));
+  EXPECT_TRUE(corners.count({0.15 + 0.75 * 0.75, 1.0 + 0.75 * 9.0}));
   const std::vector<MicroRatios> three = TransferAnchorPoints(DefaultSweepDesign(true, 0.45, 0.4));
   ASSERT_EQ(three.size(), 4u);
   std::set<std::pair<double, double>> pairs;
