@@ -94,4 +94,25 @@ TEST(CalibrateToMaterialCommand, BadInputExitsWithTwoAndWritesNothing) {
   fs::remove_all(out);
 }
 
+// A target out of reach is not an error: the command calibrates what is reachable, the
+// report names what was given up and the intervals, and the exit status is 4. A small
+// specimen with maps on itself (a few seconds); nu 0.45 is beyond any rigid-particle packing.
+TEST(CalibrateToMaterialCommand, UnreachableTargetExitsWithFourAndSaysWhatWasGivenUp) {
+  const fs::path out = fs::temp_directory_path() / "specimen_cal_cli_unreachable";
+  fs::remove_all(out);
+  const std::string material =
+      Material("high_nu", "youngs_modulus = 15e9\npoisson_ratio = 0.45\nucs = 40e6\ntensile_strength = 3e6\n"
+                          "density = 2600\n")
+          .string();
+  const Result r = RunCalibrate(material + " --model rigid --ucs-domain 'rectangle 0 0 0.01 0.01' --count 300 "
+                                           "--sweep-fraction 1 --sweep-levels 3 --rounds 1 --quiet --no-pictures "
+                                           "--output " + out.string() + " --maps-dir " + (out / "maps").string());
+  EXPECT_EQ(r.status, 4) << r.output;
+  EXPECT_NE(r.output.find("given up: nu"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("nu reach on this specimen (measured)"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(out / "calibration_report.json"));
+  EXPECT_TRUE(fs::exists(out / "calibration_reach.csv"));
+  fs::remove_all(out);
+}
+
 }  // namespace
