@@ -445,6 +445,9 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
   auto load_given_maps = [&]() {
     StoredMaps stored = LoadStoredMaps(options.maps_file);
     std::string why;
+    if (!stored.protocol.contains("elastic_reading"))
+      throw InputError("maps " + options.maps_file + " were built by an older version that read E and nu as secants "
+                       "over 1-50 % of the peak (damage included); build them again (--no-reuse)");
     if (stored.dimension != Dim)
       throw InputError("maps " + options.maps_file + " are " + std::to_string(stored.dimension) + "D, the calibration is " +
                        std::to_string(Dim) + "D");
@@ -573,7 +576,9 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
   const CalibrationSolution& solution = summary.solution;
   summary.converged = solution.converged;
   summary.tensile_honoured = solution.tensile_honoured;
-  summary.gave_up = !solution.reach.given_up.empty() || !solution.tensile_honoured || !solution.reach.poisson_reachable;
+  summary.gave_up = !solution.reach.given_up.empty();
+  // The reach of the model used, as the strength stage left it (measured since).
+  (summary.model_used == "ddem" ? summary.deformable_reach : summary.rigid_reach) = solution.reach;
   summary.best_round = solution.best_round + 1;
   const auto& tests = model.strength_tests();
   for (size_t k = 0; k < solution.rounds.size(); ++k) {
@@ -620,12 +625,10 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
       v.elastic_group = ElasticGroup(summary.ucs_descriptors, run.measured.youngs_modulus_pa, run.query.normal_stiffness);
       summary.maps.verified.push_back(v);
     }
-    for (const StrengthRound& r : solution.rounds) {
+    for (const StrengthRound& r : solution.rounds) {  // strengths only: the elastic runs are above
       VerifiedPoint v;
       v.ratios = r.ratios;
       v.specimen = summary.ucs_descriptors;
-      v.poisson_ratio = r.elastic_poisson_ratio;
-      v.elastic_group = ElasticGroup(summary.ucs_descriptors, r.elastic_youngs_modulus_pa, r.normal_stiffness);
       v.compressive_group = StrengthGroup(summary.ucs_descriptors, r.measured.ucs_pa, r.bond_tensile_strength);
       v.tensile_group = StrengthGroup(summary.bts_descriptors, r.measured.tensile_strength_pa, r.bond_tensile_strength);
       summary.maps.verified.push_back(v);

@@ -140,6 +140,9 @@ CalibrationSolver::CalibrationSolver(CalibrationSurrogate surrogate, TargetMater
   if (!options_.IsValid(&error)) throw InputError(error);
   if (!target_.IsValid(&error)) throw InputError(error);
   if (!model_) throw InputError("the calibration solver needs a forward model");
+  if (!(std::abs(target_.poisson_ratio) >= 0.01))
+    throw InputError("poisson_ratio = " + std::to_string(target_.poisson_ratio) +
+                     ": the calibration matches nu in relative terms; allowed |nu| >= 0.01");
   reach_.deformable = surrogate_.Varies(MicroRatio::kParticleCompliance);
   if (reach_.deformable) {
     if (!(options_.admissible_particle_compliance > 0.0))
@@ -213,10 +216,12 @@ constexpr double kUncorrectedRatioUncertainty = 0.405;  // ln 1.5
 
 double CalibrationSolver::RatioUncertainty() const {
   const std::vector<double> d = surrogate_.StoredStrengthRatioCorrections();
-  if (d.empty()) return kUncorrectedRatioUncertainty;
+  // A spread needs a few points; below three the surfaces are trusted no more than uncorrected.
+  if (d.size() < 3) return kUncorrectedRatioUncertainty;
   double mean = 0.0;
   for (double v : d) mean += v / static_cast<double>(d.size());
-  double spread = 0.0;
+  // At least twice the strengths' path noise (about 1 % each on 5,000 discs).
+  double spread = 0.03;
   for (double v : d) spread = std::max(spread, std::abs(v - mean));
   return spread;
 }
@@ -292,13 +297,11 @@ const CalibrationReach& CalibrationSolver::AssessReach() {
   reach_.nearest_poisson = std::clamp(nu, reach_.poisson_min, reach_.poisson_max);
 
   // nu along one ratio with the others fixed: the corrected surface plus the line correction
-  // through the runs on that line.
+  // through the measurements on that line.
   auto poisson_on_line = [&](const MicroRatios& r, MicroRatio axis) {
     std::vector<std::pair<double, double>> residuals;
-    for (const ElasticRun& run : runs_)
-      if (OnLine(run.query.ratios, r, axis, true))
-        residuals.push_back({Get(run.query.ratios, axis),
-                             run.measured.poisson_ratio - surrogate_.Poisson(run.query.ratios, &axis)});
+    for (const auto& m : PoissonOnLine(r, axis))
+      residuals.push_back({Get(m.first, axis), m.second - surrogate_.Poisson(m.first, &axis)});
     return surrogate_.Poisson(r, &axis) +
            Interpolate(residuals, Get(r, axis), surrogate_.Upper(axis) - surrogate_.Lower(axis));
   };
@@ -353,20 +356,29 @@ const CalibrationReach& CalibrationSolver::AssessReach() {
   return reach_;
 }
 
+std::vector<std::pair<MicroRatios, double>> CalibrationSolver::PoissonOnLine(const MicroRatios& through,
+                                                                            MicroRatio axis) const {
+  std::vector<std::pair<MicroRatios, double>> out;
+  for (const ElasticRun& run : runs_)
+    if (OnLine(run.query.ratios, through, axis, true)) out.push_back({run.query.ratios, run.measured.poisson_ratio});
+  for (const SurrogateMeasurement& m : surrogate_.stored_measurements())
+    if (m.youngs_per_stiffness > 0.0 && OnLine(m.ratios, through, axis, true)) out.push_back({m.ratios, m.poisson_ratio});
+  return out;
+}
+
 bool CalibrationSolver::SolvePoissonAlong(MicroRatio axis, MicroRatios* ratios, double lower, double upper) {
   const double nu_target = reach_.nearest_poisson;
   const double accept = options_.elastic_tolerance_share * options_.tolerance_poisson * std::abs(target_.poisson_ratio);
   const double width = upper - lower;
   for (;;) {
-    // The runs on this line.
+    // The measurements on this line (this calibration's runs and the stored ones).
     std::vector<std::pair<double, double>> points, residuals;  // (value of axis, nu)
-    for (const ElasticRun& run : runs_)
-      if (OnLine(run.query.ratios, *ratios, axis, true)) {
-        const double v = Get(run.query.ratios, axis);
-        if (v < lower - 1e-12 || v > upper + 1e-12) continue;
-        points.push_back({v, run.measured.poisson_ratio});
-        residuals.push_back({v, run.measured.poisson_ratio - surrogate_.Poisson(run.query.ratios, &axis)});
-      }
+    for (const auto& m : PoissonOnLine(*ratios, axis)) {
+      const double v = Get(m.first, axis);
+      if (v < lower - 1e-12 || v > upper + 1e-12) continue;
+      points.push_back({v, m.second});
+      residuals.push_back({v, m.second - surrogate_.Poisson(m.first, &axis)});
+    }
     std::sort(points.begin(), points.end());
     // Converged on a run?
     const std::pair<double, double>* closest = nullptr;
@@ -402,7 +414,7 @@ bool CalibrationSolver::SolvePoissonAlong(MicroRatio axis, MicroRatios* ratios, 
       if (closest) *ratios = With(*ratios, axis, closest->first);
       return false;
     }
-    Progress(0.05 + 0.01 * static_cast<double>(runs_.size()),
+    Progress(std::min(0.12, 0.05 + 0.01 * static_cast<double>(runs_.size())),
              "elastic stage: " + MicroRatioName(axis) + " " + Number("%.5g", next));
     RunElastic(With(*ratios, axis, next), reference_kn_, "nu");
   }
@@ -431,6 +443,8 @@ CalibrationSolver::ElasticSet CalibrationSolver::ElasticStage(const MicroRatios&
   }
   // E at this point (any run there: E ~ kn exactly at fixed ratios), then kn in one step.
   double youngs_per_stiffness = surrogate_.YoungsPerStiffness(elastic);
+  for (const SurrogateMeasurement& m : surrogate_.stored_measurements())
+    if (m.youngs_per_stiffness > 0.0 && SameElastic(m.ratios, elastic)) youngs_per_stiffness = m.youngs_per_stiffness;
   for (const ElasticRun& run : runs_)
     if (SameElastic(run.query.ratios, elastic))
       youngs_per_stiffness = run.measured.youngs_modulus_pa / run.query.normal_stiffness;
@@ -460,7 +474,9 @@ CalibrationSolution CalibrationSolver::Solve() {
   const ElasticSet set = ElasticStage(reach_.start);
   if (!set.poisson_met && reach_.poisson_reachable)
     solution.notes.push_back("the elastic stage stopped at nu " + Number("%.4f", set.confirmed.poisson_ratio) +
-                             " after " + std::to_string(runs_.size()) + " elastic runs (max_elastic_runs)");
+                             " after " + std::to_string(runs_.size()) + " elastic runs" +
+                             (static_cast<int>(runs_.size()) >= options_.max_elastic_runs ? " (max_elastic_runs)"
+                                                                                           : ""));
   StrengthStage(set, &solution);
   solution.reach = reach_;
   solution.elastic_runs = runs_;
@@ -485,14 +501,17 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
   auto line = [&](double x, double* log_c, double* log_t) {
     const MicroRatios r = With(set.ratios, kX, x);
     std::vector<std::pair<double, double>> rc, rt;
-    for (const StrengthRound& k : rounds) {
-      if (k.elastic_set != line_id) continue;
-      const double xk = Get(k.ratios, kX);
-      rc.push_back({xk, std::log(k.measured.ucs_pa / k.bond_tensile_strength) -
-                            std::log(surrogate_.UcsPerStrength(k.ratios, &kX))});
-      rt.push_back({xk, std::log(k.measured.tensile_strength_pa / k.bond_tensile_strength) -
-                            std::log(surrogate_.TensilePerStrength(k.ratios, &kX))});
-    }
+    auto add = [&](const MicroRatios& at, double ucs_per_strength, double tensile_per_strength) {
+      rc.push_back({Get(at, kX), std::log(ucs_per_strength) - std::log(surrogate_.UcsPerStrength(at, &kX))});
+      rt.push_back({Get(at, kX), std::log(tensile_per_strength) - std::log(surrogate_.TensilePerStrength(at, &kX))});
+    };
+    for (const StrengthRound& k : rounds)
+      if (k.elastic_set == line_id)
+        add(k.ratios, k.measured.ucs_pa / k.bond_tensile_strength,
+            k.measured.tensile_strength_pa / k.bond_tensile_strength);
+    for (const SurrogateMeasurement& m : surrogate_.stored_measurements())
+      if (m.ucs_per_strength > 0.0 && OnLine(m.ratios, set.ratios, kX, false))
+        add(m.ratios, m.ucs_per_strength, m.tensile_per_strength);
     *log_c = std::log(surrogate_.UcsPerStrength(r, &kX)) + Interpolate(rc, x, width);
     *log_t = std::log(surrogate_.TensilePerStrength(r, &kX)) + Interpolate(rt, x, width);
   };
@@ -515,10 +534,18 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
     if (!tensile_honoured) return compressive ? ec * ec : et * et;
     return ec * ec + et * et;
   };
+  // Every property kept within its tolerance: the round's elastic set and its strengths.
   auto met = [&](const StrengthRound& k) {
     const bool ucs_ok = std::abs(k.error_ucs) <= options_.tolerance_ucs;
     const bool tensile_ok = std::abs(k.error_tensile) <= options_.tolerance_tensile;
-    return tensile_honoured ? ucs_ok && tensile_ok : (compressive ? ucs_ok : tensile_ok);
+    return k.elastic_met && (tensile_honoured ? ucs_ok && tensile_ok : (compressive ? ucs_ok : tensile_ok));
+  };
+  auto elastic_met = [&](const ElasticSet& e) {
+    const bool youngs_ok = std::abs(e.confirmed.youngs_modulus_pa / target_.youngs_modulus_pa - 1.0) <=
+                           options_.tolerance_youngs;
+    const bool poisson_ok = std::abs(e.confirmed.poisson_ratio / target_.poisson_ratio - 1.0) <=
+                            options_.tolerance_poisson;
+    return youngs_ok && (poisson_ok || !reach_.poisson_reachable);
   };
   // A round that meets every honoured tolerance ranks before one that does not.
   auto better = [&](const StrengthRound& a, const StrengthRound& b) {
@@ -544,6 +571,7 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
     k.normal_stiffness = set.normal_stiffness;
     k.elastic_youngs_modulus_pa = set.confirmed.youngs_modulus_pa;
     k.elastic_poisson_ratio = set.confirmed.poisson_ratio;
+    k.elastic_met = elastic_met(set);
     k.bond_tensile_strength = std::exp(log_strength_at(x));
     double c, t;
     line(x, &c, &t);
@@ -575,16 +603,27 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
     // Reach, by measurement: a round within the slack proves the ratio reachable (and honours
     // sigma_t again if it had been given up); it is out of reach at this elastic set when the
     // corrected line misses it and a round at the end of the box that comes closest missed it.
+    // A round that meets every tolerance needs none of this (its ratio may still miss by up
+    // to the two strength tolerances together), and the last round cannot act on it.
     bool replan = false;
+    const bool last = round == options_.max_strength_rounds;
     if (std::abs(measured_ratio - log_ratio) <= slack) {
       ratio_measured_in_reach = true;
       if (!tensile_honoured) {
         tensile_honoured = true;
         given_up_x = -1.0;
         solution->notes.push_back("round " + std::to_string(round) + " measured sigma_c / sigma_t " +
-                                  Number("%.3f", std::exp(measured_ratio)) + ": within reach after all; sigma_t honoured");
+                                  Number("%.3f", std::exp(measured_ratio)) + ": within reach after all; " +
+                                  (compressive ? "sigma_t" : "the UCS") + " honoured again");
       }
-    } else if (tensile_honoured && x_free && !ratio_measured_in_reach) {
+    } else if (tensile_honoured && !x_free && !ratio_measured_in_reach && !met(k)) {
+      // Rt/Rn is not an input of the maps: one measurement shows the ratio this elastic set gives.
+      tensile_honoured = false;
+      solution->notes.push_back("sigma_c / sigma_t = " + Number("%.3f", target_.StrengthRatio()) + ": round " +
+                                std::to_string(round) + " measured " + Number("%.3f", std::exp(measured_ratio)) +
+                                ", and Rt/Rn is not an input of these maps; " + (compressive ? "sigma_t" : "the UCS") +
+                                " is given up");
+    } else if (tensile_honoured && x_free && !ratio_measured_in_reach && !met(k) && !last) {
       double lo = std::numeric_limits<double>::infinity(), hi = -lo, x_of_lo = x_lo, x_of_hi = x_hi;
       for (int j = 0; j <= 100; ++j) {
         const double v = x_lo + width * j / 100.0, value = ratio_at(v);
@@ -629,7 +668,7 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
           return false;
         };
         const bool trend_measured = trend_in(line_samples) || trend_in(stored_samples);
-        if (measured_at_end && !trend_measured && round < options_.max_strength_rounds) {
+        if (measured_at_end && !trend_measured) {
           probe_x = std::clamp(end + (end > 0.5 * (x_lo + x_hi) ? -0.25 : 0.25) * width, x_lo, x_hi);
           measured_at_end = false;
         }
@@ -640,8 +679,7 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
           if (reach_.deformable && solution->replans < kMaxReplans &&
               DeformableStart(set.confirmed.poisson_ratio, slack, Get(set.ratios, MicroRatio::kStiffnessRatio),
                               &next_start, &unused_lo, &unused_hi) &&
-              log_ratio >= std::log(unused_lo) - slack && log_ratio <= std::log(unused_hi) + slack &&
-              round < options_.max_strength_rounds) {
+              log_ratio >= std::log(unused_lo) - slack && log_ratio <= std::log(unused_hi) + slack) {
             replan = true;
             solution->notes.push_back(
                 "round " + std::to_string(round) + ": sigma_c / sigma_t is out of reach at kt/kn " +
@@ -666,7 +704,6 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
             reach_.strength_ratio_max = std::exp(hi);
             reach_.nearest_strength_ratio =
                 std::clamp(target_.StrengthRatio(), reach_.strength_ratio_min, reach_.strength_ratio_max);
-            reach_.given_up.push_back(compressive ? "sigma_t" : "UCS");
             given_up_x = end;
           }
         }
@@ -731,6 +768,11 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
   }
   solution->best_round = best;
   solution->tensile_honoured = tensile_honoured;
+  // What is given up, as the stage ended (a ratio declared out of reach before the first round
+  // may have been measured within reach since).
+  reach_.given_up.clear();
+  if (!reach_.poisson_reachable) reach_.given_up.push_back("nu");
+  if (!tensile_honoured) reach_.given_up.push_back(compressive ? "sigma_t" : "UCS");
   const StrengthRound& b = rounds[best];
   solution->normal_stiffness = b.normal_stiffness;
   solution->bond_tensile_strength = b.bond_tensile_strength;
@@ -741,7 +783,8 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
   solution->error_youngs = b.elastic_youngs_modulus_pa / target_.youngs_modulus_pa - 1.0;
   solution->error_poisson = b.elastic_poisson_ratio / target_.poisson_ratio - 1.0;
   solution->elastic_converged = std::abs(solution->error_youngs) <= options_.tolerance_youngs &&
-                                std::abs(solution->error_poisson) <= options_.tolerance_poisson;
+                                (std::abs(solution->error_poisson) <= options_.tolerance_poisson ||
+                                 !reach_.poisson_reachable);
   solution->converged = solution->elastic_converged && met(b);
 }
 

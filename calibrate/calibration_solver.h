@@ -121,6 +121,7 @@ struct StrengthRound {
   // kt/kn gives later rounds another one).
   double elastic_youngs_modulus_pa = 0.0, elastic_poisson_ratio = 0.0;
   int elastic_set = 0;  // 0 = the first elastic stage, 1 = the first re-plan, ...
+  bool elastic_met = false;  // its E (and nu, unless nu was given up) within tolerance
   double error_ucs = 0.0, error_tensile = 0.0;  // relative to the target
   double weighted_error = 0.0;  // sum of (error / tolerance)^2 over the honoured strengths
   bool accepted = false;        // the best so far when it ran
@@ -182,6 +183,9 @@ class CalibrationSolver {
   double ReferenceStiffness(const MicroRatios& ratios) const;
   double StrengthRatioMin(const MicroRatios& elastic, double* at) const;
   double StrengthRatioMax(const MicroRatios& elastic, double* at) const;
+  // The nu measured on the line through `through` along `axis` (this calibration's elastic
+  // runs and the stored measurements), with their ratios.
+  std::vector<std::pair<MicroRatios, double>> PoissonOnLine(const MicroRatios& through, MicroRatio axis) const;
   bool SolvePoissonAlong(MicroRatio axis, MicroRatios* ratios, double lower, double upper);
   void StrengthStage(ElasticSet set, CalibrationSolution* solution);
   double Progress(double share, const std::string& message) const;

@@ -250,16 +250,26 @@ TEST_F(LabIrregularPacking, LinearPortionIsTheIntactSpecimensAndIgnoresTheStreng
     const LabTestResult r = RunLabTest<2>(*packing_, breaking, to_failure);
     ASSERT_TRUE(r.peak_reached);
     ASSERT_TRUE(r.linear_elastic.measured);
-    EXPECT_EQ(r.linear_elastic.broken_bonds_in_window, 0);
-    // Its samples end before the first sample with a broken bond.
-    double first_break_stress = 0.0;
-    for (const LabCurvePoint& p : r.curve)
+    // Its samples end before the first sample with a broken bond: the window's top is the
+    // largest control value among the samples before it.
+    double first_break_stress = 0.0, last_intact_control = 0.0;
+    for (const LabCurvePoint& p : r.curve) {
       if (p.broken_in_tension + p.broken_in_shear > 0) {
         first_break_stress = p.control;
         break;
       }
+      last_intact_control = std::max(last_intact_control, p.control);
+    }
     EXPECT_GT(first_break_stress, 0.0);
-    EXPECT_LE(r.linear_elastic.window_high_pa, std::max(first_break_stress, r.peak_control));
+    EXPECT_DOUBLE_EQ(r.linear_elastic.window_high_pa, last_intact_control);
+    EXPECT_LT(r.linear_elastic.window_high_pa, first_break_stress);
+    EXPECT_NEAR(r.linear_elastic.window_low_pa, 0.2 * last_intact_control, 1e-9 * last_intact_control);
+    // Plane strain reading of the in-plane slopes (design.md).
+    const double nu_in_plane = r.linear_elastic.poisson_ratio_in_plane;
+    EXPECT_NEAR(r.linear_elastic.poisson_ratio, nu_in_plane / (1.0 + nu_in_plane), 1e-12);
+    EXPECT_NEAR(r.linear_elastic.youngs_modulus_pa,
+                r.linear_elastic.youngs_modulus_in_plane_pa * (1.0 - std::pow(r.linear_elastic.poisson_ratio, 2)),
+                1e-9 * r.linear_elastic.youngs_modulus_pa);
     std::printf("  Rt/Rn %.0f: peak %.4g MPa, first break at %.3g MPa; linear portion %.3g-%.3g MPa (%d samples), "
                 "E %.5g GPa, nu %.5f; intact run E %.5g GPa, nu %.5f; secant 1-50 %%: nu %.4f\n",
                 strength_ratio, r.peak_stress_pa / 1e6, first_break_stress / 1e6, r.linear_elastic.window_low_pa / 1e6, r.linear_elastic.window_high_pa / 1e6,
