@@ -28,12 +28,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double SecondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-std::string Percent(double relative) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%+.2f %%", 100.0 * relative);
-  return text;
-}
-
 std::string UtcNow() {
   const std::time_t now = std::time(nullptr);
   std::tm tm{};

@@ -102,6 +102,11 @@ PackingDescriptors Describe(const Packing<Dim>& packing) {
 
 }  // namespace
 
+double SweepAxis::At(double fraction) const {
+  if (geometric) return lower * std::pow(upper / lower, fraction);
+  return lower + (upper - lower) * fraction;
+}
+
 std::vector<MicroRatios> SweepDesign::Points() const {
   std::vector<MicroRatios> points(1, fixed);
   for (const SweepAxis& axis : axes) {
@@ -109,7 +114,7 @@ std::vector<MicroRatios> SweepDesign::Points() const {
     for (const MicroRatios& base : points)
       for (int level = 0; level < axis.levels; ++level) {
         MicroRatios r = base;
-        SetRatioValue(&r, axis.ratio, axis.lower + (axis.upper - axis.lower) * level / (axis.levels - 1));
+        SetRatioValue(&r, axis.ratio, axis.At(static_cast<double>(level) / (axis.levels - 1)));
         next.push_back(r);
       }
     points = std::move(next);
@@ -140,6 +145,8 @@ bool SweepDesign::IsValid(std::string* error) const {
       out << "sweep design: kt/kn lower = " << a.lower << ", allowed >= 0";
     else if (a.ratio == MicroRatio::kStrengthRatio && !(a.lower > 0.0))
       out << "sweep design: Rt/Rn lower = " << a.lower << ", allowed > 0";
+    else if (a.geometric && !(a.lower > 0.0))
+      out << "sweep design: geometric axis " << name << " lower = " << a.lower << ", allowed > 0";
     else if (a.ratio == MicroRatio::kFriction && !(a.lower >= 0.0))
       out << "sweep design: mu lower = " << a.lower << ", allowed >= 0";
     else if (a.ratio == MicroRatio::kParticleCompliance && !(a.lower >= 0.0))
@@ -163,7 +170,7 @@ std::vector<MicroRatios> TransferAnchorPoints(const SweepDesign& design) {
       const bool high = (corner >> a) & 1;
       sign_product *= high ? 1 : -1;
       const SweepAxis& axis = design.axes[a];
-      SetRatioValue(&r, axis.ratio, axis.lower + (high ? 0.75 : 0.25) * (axis.upper - axis.lower));
+      SetRatioValue(&r, axis.ratio, axis.At(high ? 0.75 : 0.25));
     }
     if (k >= 3 && sign_product < 0) continue;  // the half fraction
     points.push_back(r);
@@ -177,7 +184,7 @@ nlohmann::json SweepDesign::ToJson() const {
   j["axes"] = nlohmann::json::array();
   for (const SweepAxis& a : axes)
     j["axes"].push_back({{"ratio", MicroRatioName(a.ratio)}, {"lower", a.lower}, {"upper", a.upper},
-                         {"levels", a.levels}});
+                         {"levels", a.levels}, {"geometric", a.geometric}});
   j["fixed"] = SweepPointRatiosToJson(fixed);
   return j;
 }
@@ -186,7 +193,7 @@ SweepDesign SweepDesign::FromJson(const nlohmann::json& j) {
   SweepDesign d;
   for (const auto& a : j.at("axes"))
     d.axes.push_back({RatioFromName(a.at("ratio").get<std::string>()), a.at("lower").get<double>(),
-                      a.at("upper").get<double>(), a.at("levels").get<int>()});
+                      a.at("upper").get<double>(), a.at("levels").get<int>(), a.value("geometric", false)});
   d.fixed = SweepPointRatiosFromJson(j.at("fixed"));
   return d;
 }
@@ -198,13 +205,13 @@ SweepDesign DefaultSweepDesign(bool deformable, double particle_poisson_ratio,
   d.fixed.shear_to_tensile_strength = 10.0;
   d.fixed.tangential_to_normal_stiffness = 0.25;
   if (!deformable) {
-    d.axes = {{MicroRatio::kStiffnessRatio, 0.15, 0.9, 4}, {MicroRatio::kStrengthRatio, 1.0, 10.0, 3}};
+    d.axes = {{MicroRatio::kStiffnessRatio, 0.15, 0.9, 4}, {MicroRatio::kStrengthRatio, 1.0, 10.0, 3, true}};
     return d;
   }
   d.fixed.particle_poisson_ratio = particle_poisson_ratio;
   d.axes = {{MicroRatio::kStiffnessRatio, 0.15, 0.6, 3},
             {MicroRatio::kParticleCompliance, 0.0, largest_particle_compliance, 3},
-            {MicroRatio::kStrengthRatio, 1.0, 10.0, 3}};
+            {MicroRatio::kStrengthRatio, 1.0, 10.0, 3, true}};
   return d;
 }
 

@@ -30,12 +30,17 @@
 
 namespace specimen {
 
-// One varying micro ratio: `levels` equally spaced values in [lower, upper].
+// One varying micro ratio: `levels` values in [lower, upper], equally spaced, or in equal
+// ratios (geometric, lower > 0) where the response varies as its logarithm.
 struct SweepAxis {
   MicroRatio ratio = MicroRatio::kStiffnessRatio;
   double lower = 0.0;
   double upper = 0.0;
   int levels = 3;  // >= 2
+  bool geometric = false;
+
+  // The value at `fraction` of the axis in [0, 1] (the level k is at k / (levels - 1)).
+  double At(double fraction) const;
 };
 
 // A full factorial grid over the axes; the ratios without an axis take `fixed`.
@@ -54,9 +59,10 @@ struct SweepDesign {
 
 // Rigid particles: kt/kn in [0.15, 0.9] (4 levels; nu falls from near the DEM limit to about
 // 0.03 in plane strain; below about 0.1 small specimens lose lateral stiffness and buckle) x
-// Rt/Rn in [1, 10] (3 levels, Labra's range, section 4.3.4; sigma_c / sigma_t grows with it
-// from Rt/Rn = 1, where shear failure dominates: on the default 5,064-disc specimen at
-// kt/kn 0.2 it is 8.5 at Rt/Rn 1, 12.4 at 2, 16.7 at 4, and 10.2 again at 0.5), mu fixed. Deformable particles add
+// Rt/Rn in [1, 10] (3 geometric levels 1, 3.16, 10; Labra's range, section 4.3.4;
+// sigma_c / sigma_t grows with it from Rt/Rn = 1, where shear failure dominates, steeply up to
+// about 4 and then slowly: on the default 5,064-disc specimen at kt/kn 0.2 it is 8.4 at
+// Rt/Rn 1, 10.1 at 1.45, 12.0 at 1.9, 16.4 at 4, and 10.2 again at 0.5), mu fixed. Deformable particles add
 // kn/(Ep l) in [0, largest_particle_compliance] (3 levels) at the fixed nu_p: a nu_p above
 // 0.25 shifts nu above the DEM curve (Madan note 4.5, finding 3), kt/kn then in [0.15, 0.6]
 // (3 levels) where the high nu lies.
@@ -65,7 +71,7 @@ SweepDesign DefaultSweepDesign(bool deformable, double particle_poisson_ratio = 
                                double friction_coefficient = 0.8);
 
 // Where the maps are measured on the real (calibration) specimens as well, once, when they
-// are built: the transfer anchors. Surfaces fitted on smaller map specimens are offset from
+// are built: the transfer anchors (quarters of a geometric axis in equal ratios). Surfaces fitted on smaller map specimens are offset from
 // what the real specimens measure (strengths by 10-25 %, sigma_c / sigma_t by up to 50 %)
 // but keep their trends; the anchors measure the offset across the box, and every
 // calibration on these maps starts from surfaces corrected by them (surrogate.h). A

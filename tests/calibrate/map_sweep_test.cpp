@@ -2,6 +2,7 @@
 // that lets a killed sweep resume, the stored map file and its packing check.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 
 #include <cstdio>
@@ -74,16 +75,17 @@ TEST(SweepDesign, FullFactorialGridFirstAxisSlowest) {
   EXPECT_EQ(back.ToJson(), d.ToJson());
 }
 
-// The transfer anchors: a two-level design at 1/4 and 3/4 of each axis, the half fraction in
-// three dimensions (every pair of levels of two axes appears once), four points at most.
+// The transfer anchors: a two-level design at 1/4 and 3/4 of each axis (of a geometric axis
+// in equal ratios), the half fraction in three dimensions (every pair of levels of two axes
+// appears once), four points at most.
 TEST(SweepDesign, TransferAnchorsSpanTheBoxAtItsQuarters) {
   const std::vector<MicroRatios> two = TransferAnchorPoints(DefaultSweepDesign(false));
   ASSERT_EQ(two.size(), 4u);
   std::set<std::pair<double, double>> corners;
   for (const MicroRatios& r : two) corners.insert({r.tangential_to_normal_stiffness, r.shear_to_tensile_strength});
   EXPECT_EQ(corners.size(), 4u);
-  EXPECT_TRUE(corners.count({0.15 + 0.25 * 0.75, 1.0 + 0.25 * 9.0}));
-  EXPECT_TRUE(corners.count({0.15 + 0.75 * 0.75, 1.0 + 0.75 * 9.0}));
+  EXPECT_TRUE(corners.count({0.15 + 0.25 * 0.75, std::pow(10.0, 0.25)}));
+  EXPECT_TRUE(corners.count({0.15 + 0.75 * 0.75, std::pow(10.0, 0.75)}));
   const std::vector<MicroRatios> three = TransferAnchorPoints(DefaultSweepDesign(true, 0.45, 0.4));
   ASSERT_EQ(three.size(), 4u);
   std::set<std::pair<double, double>> pairs;
@@ -92,6 +94,23 @@ TEST(SweepDesign, TransferAnchorsSpanTheBoxAtItsQuarters) {
     pairs.insert({r.tangential_to_normal_stiffness, r.normal_stiffness_to_particle});
   }
   EXPECT_EQ(pairs.size(), 4u);  // each (kt/kn, kn/(Ep l)) pair of levels once
+}
+
+// A geometric axis: levels in equal ratios, and its JSON keeps the spacing.
+TEST(SweepDesign, GeometricAxisLevelsInEqualRatios) {
+  const SweepDesign d = DefaultSweepDesign(false);
+  ASSERT_TRUE(d.axes[1].geometric);
+  const std::vector<MicroRatios> points = d.Points();
+  EXPECT_DOUBLE_EQ(points[0].shear_to_tensile_strength, 1.0);
+  EXPECT_NEAR(points[1].shear_to_tensile_strength, std::sqrt(10.0), 1e-12);
+  EXPECT_DOUBLE_EQ(points[2].shear_to_tensile_strength, 10.0);
+  EXPECT_TRUE(SweepDesign::FromJson(d.ToJson()).axes[1].geometric);
+  SweepDesign bad = d;
+  bad.axes[0].geometric = true;
+  bad.axes[0].lower = 0.0;
+  std::string error;
+  EXPECT_FALSE(bad.IsValid(&error));
+  EXPECT_NE(error.find("geometric"), std::string::npos) << error;
 }
 
 TEST(SweepDesign, InvalidDesignsNameTheAxisAndRange) {
