@@ -1,5 +1,5 @@
 #pragma once
-// What calibrate-to-material writes (issue 6), in one place:
+// What calibrate-to-material writes, in one place:
 //   <dir>/<name>_parameters.toml     the calibrated [material] table (run-test scene format)
 //   <dir>/<name>_ucs_scene.toml,     complete run-test scenes of the verification tests with
 //   <dir>/<name>_bts_scene.toml      the calibrated set, on the packings below: rerun them

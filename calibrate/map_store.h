@@ -1,5 +1,5 @@
 #pragma once
-// Stored micro-macro maps (issue 6): the sweep points, the fitted surfaces with their fit
+// Stored micro-macro maps: the sweep points, the fitted surfaces with their fit
 // errors, the descriptors of the packings they were built on and the code version, as one
 // JSON file under data/maps/. A later calibration on a statistically equivalent packing
 // with the same protocol reuses them instead of sweeping again.

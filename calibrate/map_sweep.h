@@ -1,5 +1,5 @@
 #pragma once
-// The sweep that builds the micro-macro maps (issue 6): the virtual UCS and Brazilian tests
+// The sweep that builds the micro-macro maps: the virtual UCS and Brazilian tests
 // (solver/lab_test.h) at every point of a grid of micro ratios, on a packing pair (a UCS
 // specimen and a BTS disc), reduced to the dimensionless groups of dimensionless_groups.h.
 //

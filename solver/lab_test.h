@@ -37,7 +37,7 @@
 // modulus_window_high] x peak (Labra: 1-50 %), in 2D both the in-plane E', nu' and the
 // plane-strain E = E'(1 - nu^2), nu = nu'/(1 + nu') (design.md; Labra's (4.33) is wrong).
 //
-// What E and nu mean (measured, issue 4; tests/lab/lab_oracles_test.cpp):
+// What E and nu mean (measured; tests/lab/lab_oracles_test.cpp):
 //  - Strain region. The outer particle layers of a generated specimen are more compliant
 //    than its interior (fewer contacts at the domain's sides; the platen-side layer carries
 //    the platen load through few contacts). Over the whole convex hull of the centres E' of
@@ -175,8 +175,8 @@ struct LabTestOptions {
   // 0 = no guard (constant speed).
   double pause_kinetic_energy_ratio = 3.0;
   double max_pause_transits = 20.0;  // > 0
-  // Hold on fresh breakage (else on the kinetic energy alone, the behaviour before issue 4's
-  // quasi-static work: about 3 % peak changes per halving of the rate).
+  // Hold on fresh breakage (else on the kinetic energy alone, the behaviour before the quasi-static
+  // holds: about 3 % peak changes per halving of the rate).
   bool pause_on_breakage = true;
   // The platens decelerate and accelerate over this many wave transits (at least one sample
   // interval), >= 0: a sudden stop or start of the platens sends a stress wave of ~rho c V.

@@ -1,5 +1,5 @@
 // stability-limit: the critical time step and the DDEM convergence bound of a bonded packing
-// for a parameter set, certified, and a verdict for a proposed time step (issue 5; the
+// for a parameter set, certified, and a verdict for a proposed time step (the
 // analysis is solver/stability_analysis.h, the parameter file solver/stability_parameters.h).
 //
 // Sample runs:

@@ -1,4 +1,4 @@
-// Bad input to the virtual laboratory (issue 4): a specimen shape the packing does not fill,
+// Bad input to the virtual laboratory: a specimen shape the packing does not fill,
 // a test on the wrong shape, a negative confinement, a modulus window outside (0, 1), and a
 // strength test that never reaches a peak within its strain limit - reported in the result,
 // not hung and not thrown. Every invalid input is refused before any simulation work.

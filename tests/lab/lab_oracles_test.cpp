@@ -1,4 +1,4 @@
-// The virtual laboratory (solver/lab_test.h) against the oracles of issue 4: the closed
+// The virtual laboratory (solver/lab_test.h) against its oracles: the closed
 // forms of a regular hexagonal packing (lattice note O7), the Voigt estimate of an irregular
 // dense packing (Madan note section 4.3), the consistency of K and G from the isotropic and
 // pure shear tests with the UCS E and nu (Madan A14), and the Brazilian formula. Expected
@@ -340,7 +340,7 @@ TEST(LabBrazilian, TensileStrengthFormula) {
               r.wall_seconds);
 }
 
-// Confined biaxial compression (issue 4, biaxial (a)): the lateral walls hold sigma_3 while
+// Confined biaxial compression (biaxial (a)): the lateral walls hold sigma_3 while
 // the platens load; the peak axial stress rises with sigma_3 and the Mohr-Coulomb fit of the
 // envelope has a positive cohesion and friction angle. No closed form: a sanity check of the
 // servo, the envelope and the fit on a small specimen (500 discs: 34.7, 116, 131 MPa at 0, 5,

@@ -1,4 +1,4 @@
-// The cheap cases of the stiff and extreme benchmark (issue 5; tools/bench/stability_bench.py
+// The cheap cases of the stiff and extreme benchmark (tools/bench/stability_bench.py
 // runs the full grid): generated polydisperse packings (r_max/r_min = 10), stiff and soft
 // tangential springs, near-incompressible particles, kn/(Ep l) close to the limit,
 // Ep -> infinity, particles of radius 1e-5 m, 2D and 3D. For each, the prediction must be on

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Benchmark of generate-packing (issue 2): prints a table, writes CSV and pictures.
+"""Benchmark of generate-packing: prints a table, writes CSV and pictures.
 
   tools/bench/generator_bench.py [--build build] [--out bench-out/generator]
                                  [--runs 3] [--quick] [--skip-scaling] [--only 2d|3d]

@@ -1,16 +1,16 @@
 #!/usr/bin/env python3
-"""Benchmark of the virtual laboratory, run-test (issue 4): prints a table, writes CSV and a plot.
+"""Benchmark of the virtual laboratory, run-test: prints a table, writes CSV and a plot.
 
   tools/bench/lab_bench.py [--build build] [--out bench-out/lab] [--runs 3] [--threads 1]
                            [--quick] [--skip-timing] [--skip-error]
 
 1. Wall time, median of --runs runs (the packing is generated once, outside the timing):
    - 2D UCS on 10,000 discs (50 x 50 mm), Labra's 2D parameters with Rn, Rt scaled to the
-     packing's mean radius (2D strength ~ Rn / r_mean, issue 4), through the peak to 50 %;
+     packing's mean radius (2D strength ~ Rn / r_mean), through the peak to 50 %;
    - 2D Brazilian test on 5,000 discs (disc of diameter 50 mm) to 50 % post-peak;
    - 3D UCS on 20,000 spheres (cylinder 50 x 50 mm), Labra's 3D parameters (Table 4.11,
      improved column), to 50 % post-peak.
-   Target (issue 4): the 2D UCS on 10,000 discs in under 2 minutes.
+   Target: the 2D UCS on 10,000 discs in under 2 minutes.
 2. Error of E against run time: 2D UCS without breakage (elastic, to strain 1e-3) on
    1,000-10,000 discs at loading-rate groups 2e-4 .. 1.25e-5; the error of E' is taken against
    the largest specimen at the slowest rate (the best estimate this study has) and against the

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Speed benchmark of the solver core (issue 3, "Speed"): prints a table, writes JSON and CSV.
+"""Speed benchmark of the solver core ("Speed"): prints a table, writes JSON and CSV.
 
   tools/bench/solver_bench.py [--build build] [--out bench-out/solver] [--runs 3]
                               [--threads 1 2] [--steps-2d 400] [--steps-3d 600]
@@ -19,7 +19,7 @@
    spheres with the packing's pairs as cohesive bonds, compressed between two walls
    (tools/bench/solver_yade.py). Yade and solver-throughput runs alternate; the ratio of
    our rigid rate to Yade's is taken per run (adjacent in time) and its median reported.
-Targets (issue 3): DDEM overhead <= 25 %; 3D rigid bonded throughput >= 10x Yade's.
+Targets: DDEM overhead <= 25 %; 3D rigid bonded throughput >= 10x Yade's.
 
 Threads: OpenMP's default wait policy spins at every barrier. When other processes keep the
 cores busy (a shared machine), a spinning thread burns the time slice its partner needs, and

@@ -1,4 +1,4 @@
-// solver-throughput: the speed benchmark of the solver core (issue 3, "Speed").
+// solver-throughput: the speed benchmark of the solver core ("Speed").
 //
 //   solver-throughput --packing bench-out/solver/specimens/sphere3d_30k.packing
 //                     [--model rigid|ddem|both] [--threads 2] [--steps 2000] [--warmup 100]

@@ -1,4 +1,4 @@
-# Yade side of the solver speed benchmark (issue 3, "Speed"): the bonded specimen of
+# Yade side of the solver speed benchmark ("Speed"): the bonded specimen of
 # solver-throughput, built in Yade with CohFrictMat and compressed between two walls.
 # Run inside Yade (tools/bench/solver_bench.py does this when yade is installed):
 #

@@ -1,5 +1,5 @@
 // stability-bench: predicted against measured stability limits for one packing and one
-// parameter set (issue 5, "stiff and extreme cases"). tools/bench/stability_bench.py runs it
+// parameter set ("stiff and extreme cases"). tools/bench/stability_bench.py runs it
 // over the grid and prints the table.
 //
 // Sample runs:

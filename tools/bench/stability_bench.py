@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Benchmark of stability-limit (issue 5): predicted against measured limits, and speed.
+"""Benchmark of stability-limit: predicted against measured limits, and speed.
 
   tools/bench/stability_bench.py [--build build] [--out bench-out/stability]
                                  [--quick] [--only REGEX] [--skip-grid] [--skip-timing] [--runs 3]
