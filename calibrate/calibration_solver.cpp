@@ -514,6 +514,31 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
         add(m.ratios, m.ucs_per_strength, m.tensile_per_strength);
     *log_c = std::log(surrogate_.UcsPerStrength(r, &kX)) + Interpolate(rc, x, width);
     *log_t = std::log(surrogate_.TensilePerStrength(r, &kX)) + Interpolate(rt, x, width);
+    // Between two measured points close enough (Rt/Rn within a factor 3.16, half the default
+    // box in equal ratios), the measurements themselves, linear in ln(Rt/Rn): a secant in
+    // logarithms, where the strengths of bonded specimens are near linear (the default
+    // specimen, kt/kn 0.2: ln(sigma_c / sigma_t) 2.116, 2.312, 2.505 at Rt/Rn 1, 1.48, 1.98).
+    // The surfaces, fitted through three levels of Rt/Rn, bend between them where the
+    // specimen does not.
+    if (x_lo > 0.0) {
+      std::vector<std::pair<double, std::pair<double, double>>> measured;  // x, (ln c, ln t)
+      for (const StrengthRound& k : rounds)
+        if (k.elastic_set == line_id)
+          measured.push_back({Get(k.ratios, kX), {std::log(k.measured.ucs_pa / k.bond_tensile_strength),
+                                                  std::log(k.measured.tensile_strength_pa / k.bond_tensile_strength)}});
+      double below = -1.0, above = std::numeric_limits<double>::infinity();
+      std::pair<double, double> at_below, at_above;
+      for (const auto& m : measured) {
+        if (m.first <= x && m.first > below) below = m.first, at_below = m.second;
+        if (m.first >= x && m.first < above) above = m.first, at_above = m.second;
+      }
+      if (below > 0.0 && std::isfinite(above) && above > below && std::log(above / below) <= 0.5 * std::log(x_hi / x_lo)) {
+        // (coincident rounds: the last of them)
+        const double t = std::log(x / below) / std::log(above / below);
+        *log_c = at_below.first + t * (at_above.first - at_below.first);
+        *log_t = at_below.second + t * (at_above.second - at_below.second);
+      }
+    }
   };
   auto ratio_at = [&](double x) {
     double c, t;
