@@ -226,11 +226,10 @@ double CalibrationSolver::RatioUncertainty() const {
   return spread;
 }
 
-bool CalibrationSolver::DeformableStart(double poisson, double band, double avoid, MicroRatios* start,
-                                        double* ratio_min, double* ratio_max) const {
+bool CalibrationSolver::DeformableStart(double poisson, double avoid, MicroRatios* start, double* ratio_min,
+                                        double* ratio_max) const {
   const MicroRatio kStiffness = MicroRatio::kStiffnessRatio, kCompliance = MicroRatio::kParticleCompliance;
   const double s_lo = surrogate_.Lower(kStiffness), s_hi = surrogate_.Upper(kStiffness);
-  const double x_lo = surrogate_.Lower(MicroRatio::kStrengthRatio), x_hi = surrogate_.Upper(MicroRatio::kStrengthRatio);
   const double target_ratio = target_.StrengthRatio();
   constexpr int kSamples = 20;
   double best_score = -std::numeric_limits<double>::infinity(), unused = 0.0;
@@ -250,16 +249,11 @@ bool CalibrationSolver::DeformableStart(double poisson, double band, double avoi
     const double lo = StrengthRatioMin(r, &unused), hi = StrengthRatioMax(r, &unused);
     *ratio_min = std::min(*ratio_min, lo);
     *ratio_max = std::max(*ratio_max, hi);
-    double score;
-    if (target_ratio >= lo * std::exp(-band) && target_ratio <= hi * std::exp(band)) {
-      bool root = false;
-      const double x = Root([&](double v) { return surrogate_.StrengthRatio(With(r, MicroRatio::kStrengthRatio, v)) - target_ratio; },
-                            x_lo, x_hi, 0.5 * (x_lo + x_hi), &root);
-      score = root ? std::min(x - x_lo, x_hi - x) / (x_hi - x_lo) : 0.0;
-      score -= 0.01 * c / compliance_upper_;  // ties: the stiffer particles (larger margin to rho(B))
-    } else {
-      score = -1.0 - std::abs(std::log(target_ratio / std::clamp(target_ratio, lo, hi)));
-    }
+    // The margin, in logarithms, by which the target lies inside the interval of the ratio
+    // (negative outside): the kt/kn where a transfer error of the surfaces is least likely to
+    // put the target out of reach. Ties: the stiffer particles (more margin to rho(B)).
+    const double margin = std::min(std::log(target_ratio / lo), std::log(hi / target_ratio));
+    const double score = margin - 1e-3 * c / compliance_upper_;
     if (score > best_score) best_score = score, *start = r;
   }
   return any;
@@ -337,7 +331,7 @@ const CalibrationReach& CalibrationSolver::AssessReach() {
         reach_.region.push_back({Get(r, kStiffness), Get(r, kCompliance), surrogate_.Poisson(r),
                                  StrengthRatioMin(r, &unused), StrengthRatioMax(r, &unused)});
       }
-    if (!DeformableStart(reach_.nearest_poisson, band, -1.0, &reach_.start, &reach_.strength_ratio_min,
+    if (!DeformableStart(reach_.nearest_poisson, -1.0, &reach_.start, &reach_.strength_ratio_min,
                          &reach_.strength_ratio_max)) {
       // nu out of reach: the corner closest to it.
       const bool high = reach_.nearest_poisson >= 0.5 * (reach_.poisson_min + reach_.poisson_max);
@@ -702,7 +696,7 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
           double unused_lo = 0.0, unused_hi = 0.0;
           constexpr int kMaxReplans = 2;
           if (reach_.deformable && solution->replans < kMaxReplans &&
-              DeformableStart(set.confirmed.poisson_ratio, slack, Get(set.ratios, MicroRatio::kStiffnessRatio),
+              DeformableStart(set.confirmed.poisson_ratio, Get(set.ratios, MicroRatio::kStiffnessRatio),
                               &next_start, &unused_lo, &unused_hi) &&
               log_ratio >= std::log(unused_lo) - slack && log_ratio <= std::log(unused_hi) + slack) {
             replan = true;

@@ -172,10 +172,10 @@ class CalibrationSolver {
     bool poisson_met = false;
   };
   ElasticSet ElasticStage(const MicroRatios& start);
-  // DDEM: the kt/kn (with the kn/(Ep l) that gives nu) where the target strength ratio is
-  // reachable with Rt/Rn deepest inside the box; false when no kt/kn can give nu.
-  bool DeformableStart(double poisson, double band, double avoid_stiffness_ratio, MicroRatios* start,
-                       double* ratio_min, double* ratio_max) const;
+  // DDEM: the kt/kn (with the kn/(Ep l) that gives nu) whose interval of sigma_c / sigma_t
+  // holds the target with the largest margin; false when no kt/kn can give nu.
+  bool DeformableStart(double poisson, double avoid_stiffness_ratio, MicroRatios* start, double* ratio_min,
+                       double* ratio_max) const;
   double RatioUncertainty() const;
   ElasticMeasurement RunElastic(const MicroRatios& ratios, double kn, const std::string& purpose);
   std::vector<ElasticMeasurement> RunElastic(const std::vector<MicroRatios>& ratios, double kn,
