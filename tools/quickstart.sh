@@ -4,8 +4,9 @@
 # Rojek (2012), data/materials/labra2012_rock.toml (E 18.691 GPa, nu 0.20, UCS 127.83 MPa,
 # sigma_t 12.30 MPa). It generates the 50 x 50 mm UCS specimen (about 5,000 discs) and its
 # Brazilian disc, takes the micro-macro maps shipped in data/maps/ (or builds them, about
-# 5-10 minutes, when this machine's packing differs), inverts them, verifies by running the
-# UCS and Brazilian tests, and prints the report. Files and pictures go to out/quickstart/.
+# 10-15 minutes, when this machine's packing differs), measures the reach, calibrates E and
+# nu by elastic runs and the strengths by rounds of UCS and Brazilian tests, and prints the
+# report. Files and pictures go to out/quickstart/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
