@@ -772,8 +772,32 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
         probe_x = -1.0;
         step << "; probing the trend";
       } else if (tensile_honoured) {
+        // The smallest step predicted to meet both strengths: where sigma_c / sigma_t is flat
+        // in Rt/Rn (the plateau of tension-controlled failure) the root of the ratio can lie
+        // far off, though Rn alone, splitting the ratio's miss by the tolerances, already
+        // brings both within them. Else the root nearest the best round.
         const double best_x = Get(rounds[best_on_line].ratios, kX);
-        next = ratio_x(std::max(x_lo, best_x - trust), std::min(x_hi, best_x + trust), best_x);
+        const double lo = std::max(x_lo, best_x - trust), hi = std::min(x_hi, best_x + trust);
+        auto predicted_within = [&](double v) {
+          double c, t;
+          line(v, &c, &t);
+          const double log_rn = log_strength_at(v);
+          constexpr double kSafety = 0.6;  // of each tolerance: room for the path noise
+          return std::abs(log_rn + c - log_ucs) <= kSafety * tau_c && std::abs(log_rn + t - log_tensile) <= kSafety * tau_t;
+        };
+        next = ratio_x(lo, hi, best_x);
+        constexpr int kSteps = 50;
+        for (int j = 0; j <= kSteps; ++j) {  // outwards from the best round
+          const double d = std::abs(next - best_x) * j / kSteps;
+          if (best_x - d >= lo && predicted_within(best_x - d)) {
+            next = best_x - d;
+            break;
+          }
+          if (best_x + d <= hi && predicted_within(best_x + d)) {
+            next = best_x + d;
+            break;
+          }
+        }
       } else {
         if (!(given_up_x >= x_lo)) given_up_x = ratio_x(x_lo, x_hi, x);
         next = given_up_x;
