@@ -10,7 +10,8 @@
    - 2D Brazilian test on 5,000 discs (disc of diameter 50 mm) to 50 % post-peak;
    - 3D UCS on 20,000 spheres (cylinder 50 x 50 mm), Labra's 3D parameters (Table 4.11,
      improved column), to 50 % post-peak.
-   Target: the 2D UCS on 10,000 discs in under 2 minutes.
+   Target: the 2D UCS on 10,000 discs in under 2 minutes (of CPU).
+   The rows go to lab_timing.csv and, as the table of tools/bench/lab_bench.md, to lab_bench.md.
 2. Error of E against run time: 2D UCS without breakage (elastic, to strain 1e-3) on
    1,000-10,000 discs at loading-rate groups 2e-4 .. 1.25e-5; the error of E' is taken against
    the largest specimen at the slowest rate (the best estimate this study has) and against the
@@ -135,6 +136,39 @@ def timing(args, out):
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
+    path = os.path.join(out, "lab_bench.md")
+    write_markdown(rows, path, args.runs, args.threads, " ".join(["python3", "tools/bench/lab_bench.py"] + sys.argv[1:]))
+    print("table: " + path + " (the format of tools/bench/lab_bench.md)")
+
+
+def markdown_table(rows, runs, threads):
+    """The timing rows as printed by timing(), as the Markdown table of tools/bench/lab_bench.md:
+    one line per case; the peak column is the UCS (the tensile strength 2F/(pi D t) for the
+    Brazilian test), E and nu the secants over the default window (plane strain in 2D)."""
+    def number(value, form):
+        return "-" if value is None or (isinstance(value, float) and math.isnan(value)) else form % value
+
+    lines = ["| case | particles | threads | wall s (median of %d; min-max) | CPU s (median) | steps | pauses "
+             "| peak MPa (BTS: sigma_t) | E GPa | nu | target | met |" % runs,
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        if r["target_s"] is None:
+            target, met = "-", "-"
+        else:
+            target = "%.0f s CPU" % r["target_s"]
+            met = "yes" if r["median_cpu_s"] <= r["target_s"] else "**missed** (x%.1f)" % (r["median_cpu_s"] / r["target_s"])
+        lines.append("| %s | %s | %d | %.1f (%.1f-%.1f) | %.1f | %s | %s | %s | %s | %s | %s | %s |" % (
+            r["case"], "{:,}".format(r["particles"]), threads, r["median_s"], r["min_s"], r["max_s"],
+            r["median_cpu_s"], "{:,}".format(r["steps"]), r["pauses"], number(r["peak_mpa"], "%.4g"),
+            number(r["youngs_gpa"], "%.4g"), number(r["poisson"], "%.3f"), target, met))
+    return "\n".join(lines) + "\n"
+
+
+def write_markdown(rows, path, runs, threads, command):
+    """Writes the rows timing() prints as a Markdown page: the command, then markdown_table."""
+    with open(path, "w") as f:
+        f.write("# run-test benchmark\n\nReproduce: `%s`\n\n" % command)
+        f.write(markdown_table(rows, runs, threads))
 
 
 def voigt_in_plane(metrics, kn, kt):
