@@ -18,7 +18,7 @@
 #include "generator/generate.h"
 #include "generator/metrics.h"
 #include "calibrate/lab_forward_model.h"
-#include "solver/lab_measurement.h"
+#include "lab/lab_measurement.h"
 #include "solver/stability_analysis.h"
 #include "specimen_version.h"
 

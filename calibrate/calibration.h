@@ -45,7 +45,7 @@
 #include "calibrate/target_material.h"
 #include "common/progress.h"
 #include "generator/packing.h"
-#include "solver/lab_test.h"
+#include "lab/lab_test.h"
 #include "solver/material.h"
 
 namespace specimen {

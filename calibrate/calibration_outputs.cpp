@@ -10,7 +10,7 @@
 #include "common/error.h"
 #include "common/plot.h"
 #include "generator/packing_io.h"
-#include "solver/lab_outputs.h"
+#include "lab/lab_outputs.h"
 #include "specimen_version.h"
 
 namespace specimen {
@@ -27,7 +27,7 @@ std::string FileName(const std::string& path) {
   return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
-// A run-test scene (solver/lab_scene_file.h) of one verification test.
+// A run-test scene (lab/lab_scene_file.h) of one verification test.
 void WriteScene(std::ostream& out, const std::string& packing_file, const MaterialParameters& material,
                 const LabTestOptions& test, const char* kind, const std::string& name) {
   out << "# Written by calibrate-to-material " << kVersion << ": the verification " << kind

@@ -833,8 +833,26 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
         // in Rt/Rn (the plateau of tension-controlled failure) the root of the ratio can lie
         // far off, though Rn alone, splitting the ratio's miss by the tolerances, already
         // brings both within them. Else the root nearest the best round.
-        const double best_x = Get(rounds[best_on_line].ratios, kX);
-        const double lo = std::max(x_lo, best_x - trust), hi = std::min(x_hi, best_x + trust);
+        double best_x = Get(rounds[best_on_line].ratios, kX);
+        double lo = std::max(x_lo, best_x - trust), hi = std::min(x_hi, best_x + trust);
+        // Measured rounds on this line on both sides of the target ratio (sigma_c / sigma_t
+        // grows with Rt/Rn) bracket its root: the next x lies between the nearest two, whatever
+        // the trust region says. The bracket only shrinks, so nothing swings across the box;
+        // without it a rejected overshoot shrinks the region away from the root (a DDEM twin:
+        // ratio 16.5 at Rt/Rn 4.2, 8.3 at 1, target 12.2, then four rounds inside [2.6, 5.8]).
+        double below_x = -1.0, below_ratio = -1e300, above_x = -1.0, above_ratio = 1e300;
+        for (const StrengthRound& r : rounds) {
+          if (r.elastic_set != line_id) continue;
+          const double rr = std::log(r.measured.ucs_pa / r.measured.tensile_strength_pa), rx = Get(r.ratios, kX);
+          if (rr < log_ratio && rr > below_ratio) below_ratio = rr, below_x = rx;
+          if (rr > log_ratio && rr < above_ratio) above_ratio = rr, above_x = rx;
+        }
+        if (below_x > 0.0 && above_x > below_x) {
+          lo = std::max(x_lo, below_x);
+          hi = std::min(x_hi, above_x);
+          best_x = std::clamp(best_x, lo, hi);
+          step << "; bracketed by the rounds at Rt/Rn " << Number("%.4g", below_x) << " and " << Number("%.4g", above_x);
+        }
         auto predicted_within = [&](double v) {
           double log_rn, c, t;
           predict(v, &log_rn, &c, &t);

@@ -16,7 +16,7 @@
 
 #include "calibrate/forward_model.h"
 #include "generator/packing.h"
-#include "solver/lab_test.h"
+#include "lab/lab_test.h"
 #include "solver/material.h"
 
 namespace specimen {

@@ -1,6 +1,6 @@
 #pragma once
 // The forward model of a calibration on real specimens (forward_model.h): the virtual
-// laboratory (solver/lab_test.h) on the UCS specimen and the Brazilian disc.
+// laboratory (lab/lab_test.h) on the UCS specimen and the Brazilian disc.
 //
 //  - Elastic runs (intact_elastic.h), two at once on two workers.
 //  - Strength rounds: the UCS and the Brazilian test at once, one solver thread each, as the
@@ -17,7 +17,7 @@
 #include "calibrate/intact_elastic.h"
 #include "common/progress.h"
 #include "generator/packing.h"
-#include "solver/lab_test.h"
+#include "lab/lab_test.h"
 #include "solver/material.h"
 
 namespace specimen {

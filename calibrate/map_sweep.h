@@ -1,6 +1,6 @@
 #pragma once
 // The sweep that builds the micro-macro maps: the virtual UCS and Brazilian tests
-// (solver/lab_test.h) at every point of a grid of micro ratios, on a packing pair (a UCS
+// (lab/lab_test.h) at every point of a grid of micro ratios, on a packing pair (a UCS
 // specimen and a BTS disc), reduced to the dimensionless groups of dimensionless_groups.h.
 //
 //   SweepDesign design = DefaultSweepDesign(/*deformable=*/false);
@@ -26,7 +26,7 @@
 #include "calibrate/map_set.h"
 #include "common/progress.h"
 #include "generator/packing.h"
-#include "solver/lab_test.h"
+#include "lab/lab_test.h"
 
 namespace specimen {
 

@@ -1,6 +1,6 @@
 // run-test: one virtual laboratory test (UCS, Brazilian, confined biaxial with its
 // Mohr-Coulomb envelope, isotropic compression, pure shear) from a scene file: the user's way
-// to try a parameter set, and the same library call the calibrator makes (solver/lab_test.h).
+// to try a parameter set, and the same library call the calibrator makes (lab/lab_test.h).
 //
 // Sample runs:
 //   run-test data/scenes/example_ucs_2d.toml --output out/ucs
@@ -8,12 +8,12 @@
 //   run-test data/scenes/example_biaxial_2d.toml --output out/biaxial --quiet
 //   run-test data/scenes/example_ucs_3d.toml --threads 2 --name cylinder
 //
-// The scene (solver/lab_scene_file.h) names a packing file or a domain to generate, the
+// The scene (lab/lab_scene_file.h) names a packing file or a domain to generate, the
 // material, the test and its options. Everything is checked before any work (a bad value,
 // a Brazilian test on a rectangle, an output directory that cannot be written). The command
 // prints the test's report and writes into --output (default out/): <name>_curve.csv,
 // <name>_bonds.csv, <name>_summary.json, <name>_stress_strain.png, in 2D <name>_cracks.png,
-// and <name>_peak.vtu / <name>_end.vtu (solver/lab_outputs.h). Exit status: 0 success,
+// and <name>_peak.vtu / <name>_end.vtu (lab/lab_outputs.h). Exit status: 0 success,
 // 2 bad input (nothing written), 3 file error, 4 computation failure - including a strength
 // test that reached its strain limit without a peak (its files are written, for diagnosis).
 
@@ -25,10 +25,10 @@
 #include "common/progress.h"
 #include "generator/generate.h"
 #include "generator/packing_io.h"
-#include "solver/lab_envelope.h"
-#include "solver/lab_outputs.h"
-#include "solver/lab_scene_file.h"
-#include "solver/lab_specimen.h"
+#include "lab/lab_envelope.h"
+#include "lab/lab_outputs.h"
+#include "lab/lab_scene_file.h"
+#include "lab/lab_specimen.h"
 #include "specimen_version.h"
 #include "tools/command_line.h"
 

@@ -13,7 +13,7 @@
 #include "calibrate/calibration_outputs.h"
 #include "calibrate/intact_elastic.h"
 #include "common/error.h"
-#include "solver/lab_scene_file.h"
+#include "lab/lab_scene_file.h"
 #include "tests/generator/scratch_directory.h"
 
 namespace specimen {

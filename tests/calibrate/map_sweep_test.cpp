@@ -56,7 +56,7 @@ MapSweepOptions SmallOptions() {
   o.workers = 2;
   o.test.scale_density = true;
   // The elastic range: with these strengths no bond breaks below 30 % of the peak, so nu is
-  // the elastic one the Voigt estimate describes (solver/lab_test.h, "damage in the window").
+  // the elastic one the Voigt estimate describes (lab/lab_test.h, "damage in the window").
   o.test.modulus_window_high = 0.3;
   return o;
 }
@@ -148,7 +148,7 @@ TEST(MapSweep, MeasuresTheVoigtTrendsAndResumesFromTheJournal) {
     EXPECT_GT(p.elastic_group, 0.0);
     EXPECT_GT(p.compressive_group, p.tensile_group);  // sigma_c > sigma_t
     // Plane-strain Voigt nu = (1 - kt/kn) / 4; the interior of a 300-disc specimen matches
-    // it to a few hundredths (solver/lab_test.h: 5,000 discs within 0.02).
+    // it to a few hundredths (lab/lab_test.h: 5,000 discs within 0.02).
     EXPECT_NEAR(p.poisson_ratio, (1.0 - p.ratios.tangential_to_normal_stiffness) / 4.0, 0.08);
   }
   // Points 0, 1 at kt/kn 0.25; 2, 3 at 0.75.

@@ -10,10 +10,10 @@
 
 #include "common/error.h"
 #include "generator/generate.h"
-#include "solver/lab_envelope.h"
-#include "solver/lab_measurement.h"
-#include "solver/lab_specimen.h"
-#include "solver/lab_test.h"
+#include "lab/lab_envelope.h"
+#include "lab/lab_measurement.h"
+#include "lab/lab_specimen.h"
+#include "lab/lab_test.h"
 
 namespace specimen {
 namespace {

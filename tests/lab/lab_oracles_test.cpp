@@ -1,4 +1,4 @@
-// The virtual laboratory (solver/lab_test.h) against its oracles: the closed
+// The virtual laboratory (lab/lab_test.h) against its oracles: the closed
 // forms of a regular hexagonal packing (lattice note O7), the Voigt estimate of an irregular
 // dense packing (Madan note section 4.3), the consistency of K and G from the isotropic and
 // pure shear tests with the UCS E and nu (Madan A14), and the Brazilian formula. Expected
@@ -10,9 +10,9 @@
 #include <cstdio>
 
 #include "generator/generate.h"
-#include "solver/lab_envelope.h"
-#include "solver/lab_measurement.h"
-#include "solver/lab_test.h"
+#include "lab/lab_envelope.h"
+#include "lab/lab_measurement.h"
+#include "lab/lab_test.h"
 #include "solver/regular_lattice.h"
 
 namespace specimen {

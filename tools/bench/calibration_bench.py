@@ -203,11 +203,21 @@ def row_of(label, report):
     }
 
 
+MARKDOWN = []  # every table printed, for the page next to this script
+
+
+def emit(line=""):
+    print(line)
+    MARKDOWN.append(line)
+
+
 def print_table(title, rows, twin):
-    print("\n" + title)
-    print("| case | model | rounds (best) | elastic runs | E | nu | UCS | sigma_t | %s | wall |" %
+    emit()
+    emit("## " + title)
+    emit()
+    emit("| case | model | rounds (best) | elastic runs | E | nu | UCS | sigma_t | %s | wall |" %
           ("met in <= 3 rounds" if twin else "outcome"))
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    emit("|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         if twin:
             outcome = "yes" if r["converged"] and r["best_round"] <= MAX_ROUNDS and met_row(r) else "**no**"
@@ -218,7 +228,7 @@ def print_table(title, rows, twin):
                 r["given_up"], r["nu_reach"], r["ratio_reach"], r["target_ratio"])
         else:
             outcome = "**not converged** (given up: %s)" % (r["given_up"] or "-")
-        print("| %s | %s | %d (%d) | %d | %+.2f %% | %+.2f %% | %+.2f %% | %+.2f %% | %s | %.0f s |" % (
+        emit("| %s | %s | %d (%d) | %d | %+.2f %% | %+.2f %% | %+.2f %% | %+.2f %% | %s | %.0f s |" % (
             r["case"], r["model"], r["rounds"], r["best_round"], r["elastic_runs"], 100 * r["error_youngs"],
             100 * r["error_poisson"], 100 * r["error_ucs"], 100 * r["error_tensile"], outcome, r["seconds"]))
 
@@ -270,6 +280,7 @@ def main():
     parser.add_argument("--seed", type=int, default=1, help="of the hidden parameters")
     parser.add_argument("--only", default="maps,twins,published",
                         help="comma-separated: maps, twins, published, 3d")
+    parser.add_argument("--markdown", help="the page of tables to write (default OUT/calibration_bench.md)")
     parser.add_argument("--reuse-shipped-maps", action="store_true",
                         help="the master maps are data/maps (no maps-built case)")
     args = parser.parse_args()
@@ -347,7 +358,8 @@ def main():
                 100 * row["error_ucs"], 100 * row["error_tensile"], row["seconds"]), flush=True)
         print_table("Twin experiments (2D, default 5,064-disc specimen)", twin_rows, True)
         ok = sum(1 for r in twin_rows if r["converged"] and r["best_round"] <= MAX_ROUNDS and met_row(r))
-        print("twins met within %d rounds: %d of %d; median wall time %.0f s" % (
+        emit()
+        emit("Twins met within %d rounds: %d of %d; median wall time %.0f s." % (
             MAX_ROUNDS, ok, len(twin_rows), statistics.median(r["seconds"] for r in twin_rows)))
         rows += twin_rows
 
@@ -366,6 +378,11 @@ def main():
                                                                   row["rounds"], row["given_up"], row["seconds"]),
                   flush=True)
         print_table("Published rocks (2D)", published_rows, False)
+        decided = sum(1 for r in published_rows if (r["converged"] and not r["given_up"]) or
+                      r["declared_before_first_round"])
+        emit()
+        emit("Published rocks converged or declared out of reach before round 1: %d of %d; median wall time %.0f s." % (
+            decided, len(published_rows), statistics.median(r["seconds"] for r in published_rows)))
         rows += published_rows
 
     if "3d" in cases and args.twins_3d > 0:
@@ -414,6 +431,15 @@ def main():
     if plot_rounds(rounds_csv, png, len(reports)):
         print("plot:", png)
     print("tables:", os.path.join(out, "calibrations.csv"), rounds_csv)
+    page = args.markdown or os.path.join(out, "calibration_bench.md")
+    with open(page + ".tmp", "w") as f:
+        f.write("# calibrate-to-material benchmark\n\nReproduce: `python3 tools/bench/calibration_bench.py %s`"
+                " (2 cores; `OMP_WAIT_POLICY=passive`). Tolerances: E, nu 1.5 %%, UCS 2 %%, sigma_t 5 %%; wall"
+                " time of the calibration alone (the twins' forward runs excluded). Every round of every target:"
+                " `error_vs_round.csv` and `.png` in the output folder.\n" % " ".join(sys.argv[1:]))
+        f.write("\n".join(MARKDOWN) + "\n")
+    os.replace(page + ".tmp", page)
+    print("page:", page)
     return 0
 
 

@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "generator/packing.h"
-#include "solver/lab_envelope.h"
-#include "solver/lab_test.h"
+#include "lab/lab_envelope.h"
+#include "lab/lab_test.h"
 
 namespace specimen {
 

@@ -1,4 +1,4 @@
-#include "solver/lab_measurement.h"
+#include "lab/lab_measurement.h"
 
 #include <cmath>
 #include <string>

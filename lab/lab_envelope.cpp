@@ -1,4 +1,4 @@
-#include "solver/lab_envelope.h"
+#include "lab/lab_envelope.h"
 
 #include <cmath>
 #include <cstdio>

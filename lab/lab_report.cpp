@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "solver/lab_test.h"
+#include "lab/lab_test.h"
 
 namespace specimen {
 namespace {

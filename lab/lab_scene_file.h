@@ -47,8 +47,8 @@
 #include <string>
 #include <vector>
 
-#include "solver/lab_outputs.h"
-#include "solver/lab_test.h"
+#include "lab/lab_outputs.h"
+#include "lab/lab_test.h"
 #include "solver/material.h"
 
 namespace specimen {

@@ -28,7 +28,7 @@
 //    (bottom fixed, top at v, sides linear in height), zero vertical (and, in 3D, y)
 //    velocity, rotations free; G = d sigma_xy / (2 d eps_xy) (4.36). In 3D the shear is x-z.
 //
-// Measurement (solver/lab_measurement.h): stress by the branch-vector average with the
+// Measurement (lab/lab_measurement.h): stress by the branch-vector average with the
 // wall contacts (homogenisation.h SpecimenStress) over V = the current wall-to-wall volume
 // (platen gap x the specimen's lateral extent from its domain; confined and isotropic
 // tests: the product of the wall gaps; pure shear: the triangulated region of the centres,

@@ -1,4 +1,4 @@
-#include "solver/lab_specimen.h"
+#include "lab/lab_specimen.h"
 
 #include <algorithm>
 #include <cmath>

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "generator/packing.h"
-#include "solver/lab_test.h"
+#include "lab/lab_test.h"
 
 namespace specimen {
 

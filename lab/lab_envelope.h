@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "generator/packing.h"
-#include "solver/lab_measurement.h"
-#include "solver/lab_test.h"
+#include "lab/lab_measurement.h"
+#include "lab/lab_test.h"
 
 namespace specimen {
 

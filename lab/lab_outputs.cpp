@@ -1,4 +1,4 @@
-#include "solver/lab_outputs.h"
+#include "lab/lab_outputs.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -13,7 +13,7 @@
 
 #include <vector>
 
-#include "solver/lab_test.h"
+#include "lab/lab_test.h"
 
 namespace specimen {
 

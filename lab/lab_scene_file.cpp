@@ -1,4 +1,4 @@
-#include "solver/lab_scene_file.h"
+#include "lab/lab_scene_file.h"
 
 #include <cmath>
 #include <filesystem>
@@ -11,8 +11,8 @@
 #include "common/error.h"
 #include "common/field_names.h"
 #include "generator/domain.h"
-#include "solver/lab_envelope.h"
-#include "solver/lab_specimen.h"
+#include "lab/lab_envelope.h"
+#include "lab/lab_specimen.h"
 
 namespace specimen {
 namespace {

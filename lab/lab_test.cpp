@@ -1,11 +1,11 @@
-#include "solver/lab_test.h"
+#include "lab/lab_test.h"
 
 #include <cmath>
 #include <sstream>
 
 #include "common/error.h"
-#include "solver/lab_runner.h"
-#include "solver/lab_specimen.h"
+#include "lab/lab_runner.h"
+#include "lab/lab_specimen.h"
 
 namespace specimen {
 namespace {

@@ -1,4 +1,4 @@
-#include "solver/lab_runner.h"
+#include "lab/lab_runner.h"
 
 #include <algorithm>
 #include <chrono>
@@ -11,7 +11,7 @@
 #include "common/error.h"
 #include "solver/homogenisation.h"
 #include "solver/homogenisation_strain.h"
-#include "solver/lab_measurement.h"
+#include "lab/lab_measurement.h"
 #include "solver/scene_state.h"
 #include "solver/simulation.h"
 

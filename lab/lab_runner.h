@@ -5,8 +5,8 @@
 // validates, scales the density and sets the damping, calls this, and repeats it at half
 // the speed for the quasi-static check.
 
-#include "solver/lab_specimen.h"
-#include "solver/lab_test.h"
+#include "lab/lab_specimen.h"
+#include "lab/lab_test.h"
 
 namespace specimen {
 
