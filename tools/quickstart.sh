@@ -10,7 +10,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
-# OpenMP threads that spin while waiting cost 2.5x on a shared machine (solver/README.md).
+# OpenMP threads that spin while waiting can make two threads slower than one on a shared machine (solver/README.md).
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 # Work on a copy of the shipped maps: calibrations append their verifications to the map file.
 mkdir -p out/quickstart/maps

@@ -3,6 +3,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SPECIMEN_WERROR=${SPECIMEN_WERROR:-ON} tools/setup.sh
-# OpenMP threads that spin while waiting cost 2.5x on a shared machine (solver/README.md).
+# OpenMP threads that spin while waiting can make two threads slower than one on a shared machine (solver/README.md).
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 ctest --test-dir build --output-on-failure -j"$(nproc)"

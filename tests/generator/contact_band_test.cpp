@@ -81,7 +81,7 @@ TEST(ContactBand, RefillReplacesTheRattlersByTangentParticles) {
 }
 
 // End to end: the same specimen with and without the band. With it, nc passes the bound of
-// exact contacts with free radii, 8 - 2 Nb / N (README, "nc: the rigidity bound"), every
+// exact contacts with free radii, 8 - 2 Nb / N (docs/generator.md, "The rigidity bound"), every
 // overlap stays within the tolerance and the packing stays isotropic.
 TEST(ContactBand, PassesTheExactContactBoundWithinTheOverlapTolerance) {
   const auto cylinder = Domain<3>::Cylinder(0, 0, 0.5, 0, 1);
