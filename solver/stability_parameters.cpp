@@ -82,8 +82,14 @@ StabilityParameters ParseStabilityParameters(const std::string& text, const std:
         *m,
         {"normal_stiffness", "tangential_stiffness", "density", "particle_youngs_modulus",
          "particle_poisson_ratio", "plane_model", "translational_damping", "rotational_damping",
-         "normal_dashpot_ratio", "tangential_dashpot_ratio", "mass_scaling"},
+         "normal_dashpot_ratio", "tangential_dashpot_ratio", "mass_scaling",
+         // A run-test [material] table (calibrate-to-material's _parameters.toml) may be given
+         // as it is: the strengths and friction do not enter the linear stability limit, and
+         // are checked as numbers only.
+         "bond_tensile_strength", "bond_shear_strength", "friction_coefficient"},
         where);
+    for (const char* ignored : {"bond_tensile_strength", "bond_shear_strength", "friction_coefficient"})
+      ReadNumber(*m, ignored, where);
     p.normal_stiffness_n_per_m = ReadNumber(*m, "normal_stiffness", where);
     p.tangential_stiffness_n_per_m = ReadNumber(*m, "tangential_stiffness", where);
     p.density_kg_per_m3 = ReadNumber(*m, "density", where);
@@ -179,12 +185,13 @@ SceneOptions<Dim> StabilitySceneOf(const StabilityParameters& p, const Packing<D
   m.particle_youngs_modulus_pa = p.particle_youngs_modulus_pa;
   m.particle_poisson_ratio = p.particle_poisson_ratio.value_or(0.0);
   const std::string plane = p.plane_model.value_or("strain");
-  if (plane == "strain" || plane == "plane strain") {
+  if (plane == "strain" || plane == "plane strain" || plane == "plane_strain") {
     m.plane_model = PlaneModel::kPlaneStrain;
-  } else if (plane == "stress" || plane == "plane stress") {
+  } else if (plane == "stress" || plane == "plane stress" || plane == "plane_stress") {
     m.plane_model = PlaneModel::kPlaneStress;
   } else {
-    throw InputError("plane_model = '" + plane + "' is not allowed: it must be strain or stress");
+    throw InputError("plane_model = '" + plane +
+                     "' is not allowed: it must be plane_strain or plane_stress (or strain, stress)");
   }
   m.translational_damping = p.translational_damping.value_or(0.0);
   m.rotational_damping = p.rotational_damping.value_or(m.translational_damping);

@@ -156,6 +156,28 @@ TEST_F(StabilityLimitCommand, ThirdSampleRunReadsAParameterFileAndSweeps) {
             0.3);
 }
 
+// The [material] table calibrate-to-material writes (_parameters.toml) is read as it is: its
+// strengths and friction do not enter the limit, and its plane_model spelling is accepted.
+TEST_F(StabilityLimitCommand, ReadsTheCalibratorsParameterFile) {
+  const fs::path dir = FreshDirectory("calibrated");
+  fs::create_directories(dir);
+  const fs::path toml = dir / "calibration_parameters.toml";
+  std::ofstream(toml) << "[material]\nnormal_stiffness = 7e10\ntangential_stiffness = 1.4e10\n"
+                         "bond_tensile_strength = 2.2e4\nbond_shear_strength = 1.2e5\n"
+                         "friction_coefficient = 0.8\ndensity = 2650\nplane_model = \"plane_strain\"\n";
+  const Result r = StabilityLimit("--packing " + packing_ + " --parameters " + toml.string() + " --output " +
+                                  (dir / "out").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const nlohmann::json a = ReadJson(dir / "out" / "packing_stability.json")["analysis"];
+  EXPECT_GT(a["time_step"]["critical_time_step_s"].get<double>(), 0.0);
+  // A strength that is not a number is still an error naming the key.
+  std::ofstream(toml) << "[material]\nnormal_stiffness = 7e10\ndensity = 2650\nbond_tensile_strength = \"x\"\n";
+  const Result bad = StabilityLimit("--packing " + packing_ + " --parameters " + toml.string() + " --output " +
+                                    (dir / "bad").string());
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_NE(bad.output.find("bond_tensile_strength"), std::string::npos) << bad.output;
+}
+
 TEST_F(StabilityLimitCommand, FourthSampleRunWithWalls) {
   const fs::path dir = FreshDirectory("fourth");
   const Result r = StabilityLimit("--packing " + packing_ +
