@@ -15,6 +15,41 @@
 namespace specimen {
 namespace {
 
+// ln(strength) against ln(Rn) over rounds at one Rt/Rn: the least-squares slope, the
+// spread of ln Rn, and the residual standard deviation (two fitted constants).
+struct LogStrengthFit {
+  double slope = 0.0;
+  double log_rn_spread = 0.0;
+  double residual_sd = 0.0;
+};
+LogStrengthFit FitLogStrength(const std::vector<const StrengthRound*>& rounds, bool ucs) {
+  auto strength = [ucs](const StrengthRound& k) {
+    return std::log(ucs ? k.measured.ucs_pa : k.measured.tensile_strength_pa);
+  };
+  const double n = static_cast<double>(rounds.size());
+  double mean_r = 0.0, mean_s = 0.0, lo = 1e300, hi = -1e300;
+  for (const StrengthRound* k : rounds) {
+    const double r = std::log(k->bond_tensile_strength);
+    mean_r += r / n, mean_s += strength(*k) / n;
+    lo = std::min(lo, r), hi = std::max(hi, r);
+  }
+  double sxy = 0.0, sxx = 0.0;
+  for (const StrengthRound* k : rounds) {
+    const double dr = std::log(k->bond_tensile_strength) - mean_r;
+    sxy += dr * (strength(*k) - mean_s), sxx += dr * dr;
+  }
+  LogStrengthFit fit;
+  fit.slope = sxx > 0.0 ? sxy / sxx : 0.0;
+  fit.log_rn_spread = hi - lo;
+  double ss = 0.0;
+  for (const StrengthRound* k : rounds) {
+    const double e = strength(*k) - mean_s - fit.slope * (std::log(k->bond_tensile_strength) - mean_r);
+    ss += e * e;
+  }
+  fit.residual_sd = n > 2.0 ? std::sqrt(ss / (n - 2.0)) : 0.0;
+  return fit;
+}
+
 double Get(const MicroRatios& r, MicroRatio axis) { return RatioValue(r, axis); }
 
 MicroRatios With(MicroRatios r, MicroRatio axis, double value) {
@@ -562,25 +597,11 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
     const StrengthRound* anchor = here.front();
     for (const StrengthRound* k : here)
       if (k->weighted_error < anchor->weighted_error) anchor = k;
-    auto slope = [&](auto strength) {
-      double mean_r = 0.0, mean_s = 0.0, lo = 1e300, hi = -1e300;
-      for (const StrengthRound* k : here) {
-        const double r = std::log(k->bond_tensile_strength);
-        mean_r += r / here.size();
-        mean_s += std::log(strength(*k)) / here.size();
-        lo = std::min(lo, r), hi = std::max(hi, r);
-      }
-      if (!(hi - lo >= std::log(1.02))) return 1.0;
-      double sxy = 0.0, sxx = 0.0;
-      for (const StrengthRound* k : here) {
-        const double dr = std::log(k->bond_tensile_strength) - mean_r;
-        sxy += dr * (std::log(strength(*k)) - mean_s);
-        sxx += dr * dr;
-      }
-      return std::clamp(sxy / sxx, 0.25, 1.5);
+    auto slope = [&](bool ucs) {
+      const LogStrengthFit fit = FitLogStrength(here, ucs);
+      return fit.log_rn_spread >= std::log(1.02) ? std::clamp(fit.slope, 0.25, 1.5) : 1.0;
     };
-    const double beta_c = slope([](const StrengthRound& k) { return k.measured.ucs_pa; });
-    const double beta_t = slope([](const StrengthRound& k) { return k.measured.tensile_strength_pa; });
+    const double beta_c = slope(true), beta_t = slope(false);
     const double ec = std::log(anchor->measured.ucs_pa) - log_ucs;
     const double et = std::log(anchor->measured.tensile_strength_pa) - log_tensile;
     double delta;
@@ -896,27 +917,8 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
     for (const StrengthRound& k : rounds)
       if (k.elastic_set == b.elastic_set && std::abs(std::log(Get(k.ratios, kX) / Get(b.ratios, kX))) <= 1e-9)
         here.push_back(&k);
-    auto scatter = [&](auto strength) {
-      const double n = here.size();
-      double mr = 0.0, ms = 0.0;
-      for (const StrengthRound* k : here) mr += std::log(k->bond_tensile_strength) / n, ms += std::log(strength(*k)) / n;
-      double sxy = 0.0, sxx = 0.0;
-      for (const StrengthRound* k : here) {
-        const double dr = std::log(k->bond_tensile_strength) - mr;
-        sxy += dr * (std::log(strength(*k)) - ms);
-        sxx += dr * dr;
-      }
-      const double slope = sxx > 0.0 ? sxy / sxx : 0.0;
-      double ss = 0.0;
-      for (const StrengthRound* k : here) {
-        const double e = std::log(strength(*k)) - ms - slope * (std::log(k->bond_tensile_strength) - mr);
-        ss += e * e;
-      }
-      return std::sqrt(ss / (n - 2.0));  // two fitted constants
-    };
     if (here.size() >= 4) {
-      const double sc = scatter([](const StrengthRound& k) { return k.measured.ucs_pa; });
-      const double st = scatter([](const StrengthRound& k) { return k.measured.tensile_strength_pa; });
+      const double sc = FitLogStrength(here, true).residual_sd, st = FitLogStrength(here, false).residual_sd;
       const bool noisy = sc > 0.5 * options_.tolerance_ucs || st > 0.5 * options_.tolerance_tensile;
       solution->notes.push_back(
           "path noise at Rt/Rn " + Number("%.4g", Get(b.ratios, kX)) + ", measured by " + std::to_string(here.size()) +
