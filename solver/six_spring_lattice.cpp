@@ -261,17 +261,8 @@ double AddTriangleForces(const TriangleLattice& lattice, const std::vector<Vecto
   double energy = 0.0;
   for (int t = 0; t < lattice.size(); ++t) {
     const std::array<int, 3>& v = lattice.nodes[t];
-    Eigen::Vector3d h;
     std::array<Vector<2>, 3> direction;
-    for (int k = 0; k < 3; ++k) {
-      const int start = v[k], end = v[(k + 1) % 3];
-      const Vector<2>& d0 = lattice.rest_edges[t][k];
-      const Vector<2> du = displacements[end] - displacements[start];
-      const Vector<2> d = d0 + du;
-      const double length = d.norm();
-      h[k] = (2.0 * d0.dot(du) + du.squaredNorm()) / (length + lattice.rest_lengths[t][k]);
-      direction[k] = d / length;
-    }
+    const Eigen::Vector3d h = EdgeStretches(lattice, t, displacements, &direction);
     const Eigen::Vector3d edge_force = lattice.stiffness[t] * h;  // f = K^N h, (6)
     energy += 0.5 * h.dot(edge_force);
     for (int k = 0; k < 3; ++k) {

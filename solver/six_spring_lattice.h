@@ -127,11 +127,28 @@ TriangleLattice BuildTriangleLattice(const std::vector<Vector<2>>& centres,
 // eq. (2) for interior nodes of the regular lattice; the same rule on cut boundaries).
 std::vector<double> LumpedMasses(const TriangleLattice& lattice, int node_count, double density_kg_per_m3);
 
+// The stretches h_k = |d_k| - L0_k of triangle t's edges at `displacements`, for the current
+// edge vector d = d0 + u_end - u_start, computed as (2 d0.du + du.du) / (|d| + L0) (no
+// cancellation for small du; objective under rigid rotation), and the current unit edge
+// directions.
+inline Eigen::Vector3d EdgeStretches(const TriangleLattice& lattice, int t, const std::vector<Vector<2>>& displacements,
+                                     std::array<Vector<2>, 3>* directions) {
+  const std::array<int, 3>& v = lattice.nodes[t];
+  Eigen::Vector3d h;
+  for (int k = 0; k < 3; ++k) {
+    const Vector<2>& d0 = lattice.rest_edges[t][k];
+    const Vector<2> du = displacements[v[(k + 1) % 3]] - displacements[v[k]];
+    const Vector<2> d = d0 + du;
+    const double length = d.norm();
+    h[k] = (2.0 * d0.dot(du) + du.squaredNorm()) / (length + lattice.rest_lengths[t][k]);
+    (*directions)[k] = d / length;
+  }
+  return h;
+}
+
 // Adds the triangle forces at `displacements` (from the rest configuration of the lattice) to
-// `forces` (sized to the node count). Edge stretch h = |d| - L0 for the current edge vector
-// d = d0 + u_end - u_start, computed as (2 d0.du + du.du) / (|d| + L0) (no cancellation for
-// small du; objective under rigid rotation); edge force f = K^N h, tension positive, pulling
-// its two nodes together. Returns the elastic energy 1/2 h^T K^N h summed.
+// `forces` (sized to the node count): edge force f = K^N h of the stretches above, tension
+// positive, pulling its two nodes together. Returns the elastic energy 1/2 h^T K^N h summed.
 double AddTriangleForces(const TriangleLattice& lattice, const std::vector<Vector<2>>& displacements,
                          std::vector<Vector<2>>* forces);
 
