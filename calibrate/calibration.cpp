@@ -370,8 +370,13 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     StoredMaps stored;
     const std::string key = MapKey(Dim, deformable, design, protocol, sweep_specimen, options.max_total_degree);
     std::string path;
-    if (!options.maps_directory.empty())
+    if (!options.maps_directory.empty()) {
       path = (std::filesystem::path(options.maps_directory) / MapFileName(Dim, deformable, key)).string();
+      if (options.reuse_maps) {
+        const std::string found = FindStoredMapFile(options.maps_directory, Dim, deformable, key);
+        if (!found.empty()) path = found;
+      }
+    }
     if (options.reuse_maps && !path.empty() && std::filesystem::exists(path)) {
       stored = LoadStoredMaps(path);
       std::string why;

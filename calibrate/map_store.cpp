@@ -1,10 +1,13 @@
 #include "calibrate/map_store.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
@@ -15,6 +18,12 @@ namespace {
 constexpr const char* kFormat = "specimen-maps 1";
 
 // FNV-1a, 64 bit: a stable file-name key (not a security hash).
+double SignificantDigits(double value, int digits) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*g", digits, value);
+  return std::strtod(text, nullptr);
+}
+
 std::string Hash(const std::string& text) {
   std::uint64_t h = 1469598103934665603ULL;
   for (unsigned char c : text) {
@@ -121,8 +130,16 @@ StoredMaps StoredMaps::FromJson(const nlohmann::json& j) {
 
 std::string MapKey(int dimension, bool deformable, const SweepDesign& design, const nlohmann::json& protocol,
                    const nlohmann::json& specimen, int max_total_degree) {
+  // The box enters with 6 significant digits: the DDEM bound on kn/(Ep l) comes from an
+  // eigenvalue analysis whose last digits differ between builds and machines, and a
+  // difference there must not make stored maps unfindable.
+  SweepDesign rounded = design;
+  for (SweepAxis& axis : rounded.axes) {
+    axis.lower = SignificantDigits(axis.lower, 6);
+    axis.upper = SignificantDigits(axis.upper, 6);
+  }
   nlohmann::json identity = {{"format", kFormat},       {"dimension", dimension},
-                             {"deformable", deformable}, {"design", design.ToJson()},
+                             {"deformable", deformable}, {"design", rounded.ToJson()},
                              {"protocol", protocol},     {"specimen", specimen},
                              {"degree", max_total_degree}};
   return Hash(identity.dump());
@@ -130,6 +147,33 @@ std::string MapKey(int dimension, bool deformable, const SweepDesign& design, co
 
 std::string MapFileName(int dimension, bool deformable, const std::string& key) {
   return "maps_" + std::to_string(dimension) + "d_" + (deformable ? "ddem" : "dem") + "_" + key + ".json";
+}
+
+std::string FindStoredMapFile(const std::string& directory, int dimension, bool deformable, const std::string& key) {
+  namespace fs = std::filesystem;
+  const fs::path named = fs::path(directory) / MapFileName(dimension, deformable, key);
+  if (fs::exists(named)) return named.string();
+  std::error_code error;
+  if (!fs::is_directory(directory, error)) return {};
+  const std::string prefix = MapFileName(dimension, deformable, "");
+  std::vector<fs::path> candidates;
+  for (const fs::directory_entry& e : fs::directory_iterator(directory, error)) {
+    const std::string name = e.path().filename().string();
+    if (e.is_regular_file() && name.rfind(prefix.substr(0, prefix.size() - 5), 0) == 0 && e.path().extension() == ".json")
+      candidates.push_back(e.path());
+  }
+  std::sort(candidates.begin(), candidates.end());  // the same choice on every machine
+  for (const fs::path& p : candidates) {
+    try {
+      const StoredMaps m = LoadStoredMaps(p.string());
+      if (m.dimension == dimension && m.deformable == deformable &&
+          MapKey(m.dimension, m.deformable, m.design, m.protocol, m.specimen, m.max_total_degree) == key)
+        return p.string();
+    } catch (const std::exception&) {
+      // Not a readable map file: not a candidate.
+    }
+  }
+  return {};
 }
 
 void SaveStoredMaps(const StoredMaps& maps, const std::string& path) {

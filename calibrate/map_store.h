@@ -64,6 +64,10 @@ struct StoredMaps {
 std::string MapKey(int dimension, bool deformable, const SweepDesign& design,
                    const nlohmann::json& protocol, const nlohmann::json& specimen, int max_total_degree);
 std::string MapFileName(int dimension, bool deformable, const std::string& key);
+// The map file in `directory` for `key`: the one named by it, else the first file of that
+// dimension and model whose identity (recomputed from its contents) gives it: a file stored
+// under a key of an earlier program version is found all the same. Empty if none.
+std::string FindStoredMapFile(const std::string& directory, int dimension, bool deformable, const std::string& key);
 
 // Atomic write (FileError if the directory cannot be written).
 void SaveStoredMaps(const StoredMaps& maps, const std::string& path);

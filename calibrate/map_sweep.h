@@ -59,13 +59,13 @@ struct SweepDesign {
 
 // Rigid particles: kt/kn in [0.15, 0.9] (4 levels; nu falls from near the DEM limit to about
 // 0.03 in plane strain; below about 0.1 small specimens lose lateral stiffness and buckle) x
-// Rt/Rn in [1, 10] (3 geometric levels 1, 3.16, 10; Labra's range, section 4.3.4;
+// Rt/Rn in [1, 10] (3 geometric levels 1, 3.16, 10; Labra's range, sections 4.3.3-4.3.4;
 // sigma_c / sigma_t grows with it from Rt/Rn = 1, where shear failure dominates, steeply up to
 // about 4 and then slowly: on the default 5,064-disc specimen at kt/kn 0.2 it is 8.4 at
 // Rt/Rn 1, 10.1 at 1.45, 12.0 at 1.9, 16.4 at 4, and 10.2 again at 0.5), mu fixed. Deformable particles add
 // kn/(Ep l) in [0, largest_particle_compliance] (3 levels) at the fixed nu_p: a nu_p above
-// 0.25 shifts nu above the DEM curve (Madan note 4.5, finding 3), kt/kn then in [0.15, 0.6]
-// (3 levels) where the high nu lies.
+// 0.25 shifts nu above the DEM curve (Madan section 4.5, Figs. 4.17-4.18), kt/kn then in
+// [0.15, 0.6] (3 levels) where the high nu lies.
 SweepDesign DefaultSweepDesign(bool deformable, double particle_poisson_ratio = 0.45,
                                double largest_particle_compliance = 0.0,
                                double friction_coefficient = 0.8);
@@ -89,8 +89,8 @@ struct SweepPoint {
   MicroRatios ratios;
   bool ok = false;
   std::string failure;  // why the point failed (ok = false)
-  // Measured (2D: plane-strain E and nu, design.md); E and nu those of the intact specimen
-  // (intact_elastic.h).
+  // Measured (2D: plane-strain E and nu, docs/lab.md, "Measurement"); E and nu those of the
+  // intact specimen (intact_elastic.h).
   double youngs_modulus_pa = 0.0;
   double poisson_ratio = 0.0;
   double ucs_pa = 0.0;

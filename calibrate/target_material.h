@@ -40,7 +40,7 @@ struct TargetMaterial {
   std::vector<ConfinedStrength> confined;
 
   // UCS over tensile strength: the contact law of this toolkit reaches at most about 10
-  // (Labra section 4.3.4); a larger ratio is reported, not silently ignored.
+  // (Labra sections 4.3.3-4.3.4); a larger ratio is reported, not silently ignored.
   double StrengthRatio() const { return ucs_pa / tensile_strength_pa; }
   // Names the first invalid field, its value and the allowed range.
   bool IsValid(std::string* error) const;

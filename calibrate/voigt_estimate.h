@@ -9,8 +9,8 @@
 //   isotropic part: kn C^n_1111 + kt C^t_1111 = E (1 - nu) / ((1 + nu)(1 - 2 nu))   (4.18)
 //                   kn C^n_1122 + kt C^t_1122 = E nu / ((1 + nu)(1 - 2 nu))        (4.19)
 //
-// In 2D the constants are those of plane strain (design.md: report plane-strain E, nu),
-// per unit thickness (V = area x 1 m). The fabric sums are averaged over the symmetric
+// In 2D the constants are those of plane strain (docs/lab.md, "Measurement": plane-strain
+// E, nu are reported), per unit thickness (V = area x 1 m). The fabric sums are averaged over the symmetric
 // orientations (1111 over the axes, 1122 over the pairs) so that a slightly anisotropic
 // packing is identified by its isotropic part.
 

@@ -3,11 +3,12 @@
 // copy of them (the transfer error of small map specimens: strengths +16 % / -23 %, a slope
 // error in Rt/Rn, nu +0.02), and every "measurement" carries noise of the size measured on
 // 5,000 discs (strengths 1 %, elastic constants 0.1 %). Twin targets are made by the true
-// model at hidden parameters: the loop must find them within the tolerances and round
-// budget, reject steps that make things worse, never swing a ratio across its box, report
-// what is out of reach before the first strength round, give up on measurement only (after a
-// probe of the maps' trend), honour again what a round measured within reach, and cope with
-// a budget of one round and with maps that lack Rt/Rn.
+// model at hidden parameters: the loop must find them within the default tolerances
+// (docs/calibration.md, "Tolerances and noise") and a budget of rounds, reject steps that
+// make things worse, never swing a ratio across its box, report what is out of reach before
+// the first strength round, give up on measurement only (after a probe of the maps' trend),
+// honour again what a round measured within reach, and cope with a budget of one round and
+// with maps that lack Rt/Rn.
 #include "calibrate/calibration_solver.h"
 #include "calibrate/map_sweep.h"
 

@@ -11,7 +11,8 @@ namespace specimen {
 namespace {
 
 // Labra Table 4.10 / 4.11 (3D verification assembly): nc 9.3921, e 27.450 %, r~ = 0.8431 mm,
-// kn = 27.889 MN/m, E = 18.691 GPa  ->  Psi_E = E r~ / (kn nc (1 - e)) = 0.0829 (note 3.6).
+// kn = 27.889 MN/m, E = 18.691 GPa  ->  Psi_E = E r~ / (kn nc (1 - e)) = 0.0829 (section
+// 4.4.2, Tables 4.10-4.12; docs/sources.md, "Numbers reproduced").
 TEST(DimensionlessGroups, LabraThreeDimensionalElasticGroup) {
   PackingDescriptors d;
   d.dimension = 3;
@@ -26,7 +27,7 @@ TEST(DimensionlessGroups, LabraThreeDimensionalElasticGroup) {
   EXPECT_NEAR(kn, 27.889e6, 0.01 * 27.889e6);
 }
 
-// Labra's 2D worked example (note 3.6): Psi_c = 0.710, sigma_c = 127.83 MPa, nc 5.9841,
+// Labra's 2D worked example (section 4.4.1): Psi_c = 0.710, sigma_c = 127.83 MPa, nc 5.9841,
 // e 9.2121 %, A~/t = 0.1497 mm (the value his numbers imply) -> Rn = 4.9623 kN.
 TEST(DimensionlessGroups, LabraTwoDimensionalStrengthGroup) {
   PackingDescriptors d;

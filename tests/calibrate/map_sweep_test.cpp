@@ -131,7 +131,7 @@ TEST(SweepDesign, InvalidDesignsNameTheAxisAndRange) {
   EXPECT_TRUE(DefaultSweepDesign(true, 0.45, 0.3).IsValid(&error)) << error;
 }
 
-// The sweep measures the trends of the Voigt estimate (Madan note 4.3): nu falls and E
+// The sweep measures the trends of the Voigt estimate (Madan (4.15)-(4.16)): nu falls and E
 // rises with kt/kn; the journal makes a second call run nothing; a torn line is skipped.
 TEST(MapSweep, MeasuresTheVoigtTrendsAndResumesFromTheJournal) {
   const Specimens& s = Shared();
@@ -235,6 +235,25 @@ TEST(MapStore, RoundTripAndPackingCheck) {
   EXPECT_DOUBLE_EQ(back.maps.compressive_group.Evaluate(x), stored.maps.compressive_group.Evaluate(x));
   EXPECT_DOUBLE_EQ(back.maps.elastic_group.Evaluate(x), stored.maps.elastic_group.Evaluate(x));
   EXPECT_EQ(back.maps.Lower(), stored.maps.Lower());
+
+  // A box bound that differs in its last digits (an eigenvalue bound from another build) has
+  // the same key; a real difference does not.
+  SweepDesign noisy = design;
+  noisy.axes[0].upper = std::nextafter(noisy.axes[0].upper, 1.0) * (1.0 + 4e-16);
+  EXPECT_EQ(MapKey(2, false, noisy, {}, {}, 2), stored.key);
+  noisy.axes[0].upper = design.axes[0].upper * (1.0 + 1e-4);
+  EXPECT_NE(MapKey(2, false, noisy, {}, {}, 2), stored.key);
+  // Found under its own name, and by content under a name an earlier version gave it.
+  EXPECT_EQ(FindStoredMapFile(scratch.path(), 2, false, stored.key), "");
+  const fs::path named = fs::path(scratch.File(MapFileName(2, false, stored.key)));
+  SaveStoredMaps(stored, named.string());
+  EXPECT_EQ(FindStoredMapFile(scratch.path(), 2, false, stored.key), named.string());
+  const fs::path renamed = fs::path(scratch.File(MapFileName(2, false, "0123456789abcdef")));
+  fs::rename(named, renamed);
+  EXPECT_EQ(FindStoredMapFile(scratch.path(), 2, false, stored.key), renamed.string());
+  EXPECT_EQ(FindStoredMapFile(scratch.path(), 2, true, stored.key), "");  // another model
+  EXPECT_EQ(FindStoredMapFile(scratch.path(), 2, false, MapKey(2, false, noisy, {}, {}, 2)), "");
+  fs::remove(renamed);
 
   std::string why;
   PackingDescriptors other = stored.ucs_descriptors;

@@ -31,9 +31,10 @@ TEST(VoigtEstimate, FabricSumsOfTheHexagonalLattice) {
   EXPECT_NEAR(sums.tangential_1122, -c / 8, 1e-15);
 }
 
-// Lattice note O7 (plane stress, thickness 1): E' = 2 sqrt(3) kn (kn + kt) / (3kn + kt),
-// nu' = (kn - kt)/(3kn + kt) for the real lattice (c = 2 sqrt 3); plane strain:
-// nu = nu'/(1 + nu') = (1 - kt/kn)/4, E = E'(1 - nu^2) (design.md).
+// The hexagonal packing's closed forms (docs/sources.md, section 3, O7; plane stress,
+// thickness 1): E' = 2 sqrt(3) kn (kn + kt) / (3kn + kt), nu' = (kn - kt)/(3kn + kt) for the
+// real lattice (c = 2 sqrt 3); plane strain (docs/lab.md, "Measurement"):
+// nu = nu'/(1 + nu') = (1 - kt/kn)/4, E = E'(1 - nu^2).
 TEST(VoigtEstimate, HexagonalLatticeClosedFormsInPlaneStrain) {
   // Scale the domain so that c = Nc l^2 / V = 2 sqrt(3), as in the infinite lattice.
   const double c = 2 * std::sqrt(3.0);
@@ -45,7 +46,7 @@ TEST(VoigtEstimate, HexagonalLatticeClosedFormsInPlaneStrain) {
     const double e_in_plane = 2 * std::sqrt(3.0) * kn * (kn + kt) / (3 * kn + kt);
     const double nu = nu_in_plane / (1 + nu_in_plane);
     EXPECT_NEAR(e.poisson_ratio, nu, 1e-12);
-    EXPECT_NEAR(e.poisson_ratio, (1 - ratio) / 4, 1e-12);  // Labra section 3.1 [D]
+    EXPECT_NEAR(e.poisson_ratio, (1 - ratio) / 4, 1e-12);  // Labra Fig. 4.12; docs/sources.md
     EXPECT_NEAR(e.youngs_modulus_pa, e_in_plane * (1 - nu * nu), 1e-6 * e_in_plane);
   }
 }
@@ -71,7 +72,8 @@ TEST(VoigtEstimate, PoissonRatioBeyondTheRigidParticleLimitIsRefused) {
   }
 }
 
-// 3D isotropic fabric (Labra section 3.1 [D]): nu = (1 - a)/(4 + a) with a = kt/kn.
+// 3D isotropic fabric (Labra (4.18)-(4.19) in closed form, docs/sources.md, "Micro-macro
+// relations (chapter 4)"): nu = (1 - a)/(4 + a) with a = kt/kn.
 TEST(VoigtEstimate, IsotropicFabricIn3D) {
   // The 6 directions to the vertices of an icosahedron: an isotropic 4th-order fabric.
   const double g = (1 + std::sqrt(5.0)) / 2;
