@@ -7,8 +7,8 @@
 //
 // Surface nodes: the centres stop about one radius short of the specimen's sides, and the
 // hull of the centres is as rough as the boundary row of particles, which makes the moduli
-// a platen measures depend on how that ragged edge is counted (about r / width, 2-3 % on a
-// 40-particle-wide square). With `surface_nodes`, every particle touching a side gets a node
+// a platen measures depend on how that ragged edge is counted (about r / width; docs/sources.md,
+// "On generated packings"). With `surface_nodes`, every particle of the boundary row gets a node
 // at its foot on that side (where a platen or the specimen's surface touches it), and every
 // corner of a polygon domain one: the lattice then fills the domain up to its straight sides
 // (a disc: up to the polygon of the feet), and a uniaxial test on it is exact.
