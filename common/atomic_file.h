@@ -1,7 +1,7 @@
 #pragma once
 // Output files are written to a temporary name next to the target and renamed into
-// place only when complete (design.md, "Files"): a crash or a bad input never leaves a
-// half-written file behind.
+// place only when complete (docs/exports.md, "Output files are written atomically"): a
+// crash or a bad input never leaves a half-written file behind.
 
 #include <functional>
 #include <iosfwd>
@@ -22,9 +22,24 @@ void RequireWritableDirectory(const std::string& directory, const std::string& w
 // Creates `directory` (and parents) if missing; throws FileError if that is impossible.
 void EnsureDirectory(const std::string& directory, const std::string& what);
 
+// Installs handlers of SIGINT and SIGTERM that remove the temporary files in flight, say on
+// stderr that `program` was interrupted, and exit with 128 + the signal (130, 143). Files of
+// a run that were completed before the signal stay. Temporaries that a killed run (SIGKILL)
+// leaves, "<name>.tmp-<pid>-<hex>", are removed by the next write of <name>.
+void InstallInterruptHandler(const std::string& program);
+// Removes the temporary files in flight (async-signal-safe).
+void RemoveTemporaryFilesNow() noexcept;
+
+namespace detail {
+// The rename used to move files into place; tests replace it to simulate a failed move.
+extern int (*rename_file)(const char*, const char*);
+}  // namespace detail
+
 // Several files that must appear together (the outputs of one command): each Add()
-// writes a temporary file; Commit() renames them all into place. If the group is
-// destroyed without Commit(), every temporary file is removed.
+// writes a temporary file; Commit() renames them all into place, as a whole: the files of
+// an earlier set of the same names step aside first, and if any move fails the new files
+// are removed and the earlier ones put back (FileError). If the group is destroyed without
+// Commit(), every temporary file is removed.
 class OutputGroup {
  public:
   OutputGroup() = default;
@@ -41,6 +56,7 @@ class OutputGroup {
 
  private:
   std::vector<std::pair<std::string, std::string>> files_;  // (final, temporary)
+  std::vector<int> slots_;  // their places in the signal handler's list
   bool committed_ = false;
 };
 

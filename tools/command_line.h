@@ -8,6 +8,7 @@
 #include <iostream>
 #include <string>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/field_names.h"
 
@@ -37,9 +38,11 @@ inline bool ParseCommandLine(CLI::App& app, int argc, char** argv, int* status) 
 }
 
 // Runs `body`, printing "<program>: error: <message>" on stderr for any exception. The
-// messages of bad input name the fields in the user's terms (`names`).
+// messages of bad input name the fields in the user's terms (`names`). Ctrl-C and SIGTERM
+// stop it with status 130 / 143, its temporary files removed (common/atomic_file.h).
 inline int RunCommand(const std::string& program, const std::function<int()>& body,
                       const FieldNames& names = {}) {
+  InstallInterruptHandler(program);
   try {
     return body();
   } catch (const InputError& e) {

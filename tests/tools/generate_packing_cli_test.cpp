@@ -175,3 +175,49 @@ TEST(GeneratePackingCommand, PowerLawPresetInABox) {
   EXPECT_GT(packing.size(), 450);
   fs::remove_all(dir);
 }
+
+namespace {
+
+bool HasTemporaries(const fs::path& dir) {
+  if (!fs::exists(dir)) return false;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().filename().string().find(".tmp-") != std::string::npos) return true;
+  return false;
+}
+
+TEST(GeneratePackingCommand, InterruptStopsWithItsStatusAndLeavesNoTemporaries) {
+  for (const int signal_number : {SIGINT, SIGTERM}) {
+    const fs::path dir = FreshDirectory(signal_number == SIGINT ? "sigint" : "sigterm");
+    fs::create_directories(dir);
+    // Long enough (tens of seconds) to be interrupted during the work.
+    const Result r = specimen::testing::RunProgramInterrupted(
+        "generate-packing", "--domain \"rectangle 0 0 100 100\" --count 300000 --output " + dir.string(),
+        signal_number, 1.5, (fs::temp_directory_path() / "specimen_cli_interrupt.log").string());
+    EXPECT_EQ(r.status, 128 + signal_number) << r.output;
+    EXPECT_NE(r.output.find(signal_number == SIGINT ? "interrupted by SIGINT" : "interrupted by SIGTERM"),
+              std::string::npos)
+        << r.output;
+    EXPECT_TRUE(EmptyOrMissing(dir)) << "an interrupted run left files";
+  }
+}
+
+TEST(GeneratePackingCommand, TemporariesOfAKilledRunAreRemovedByTheNextRun) {
+  const fs::path dir = FreshDirectory("stale");
+  fs::create_directories(dir);
+  // A pid that no longer exists: a child that has exited and been reaped.
+  const pid_t child = fork();
+  if (child == 0) _exit(0);
+  waitpid(child, nullptr, 0);
+  const std::string dead = std::to_string(child);
+  const fs::path stale = dir / ("packing.packing.tmp-" + dead + "-0badf00d");
+  const fs::path live = dir / ("packing.packing.tmp-" + std::to_string(getpid()) + "-0badf00d");
+  for (const fs::path& p : {stale, live}) std::ofstream(p) << "half a packing";
+  const Result r = RunCommandLine("--domain \"rectangle 0 0 10 10\" --count 200 --output " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_FALSE(fs::exists(stale)) << "a killed run's temporary stayed";
+  EXPECT_TRUE(fs::exists(live)) << "a live process's temporary was removed";
+  fs::remove(live);
+  EXPECT_FALSE(HasTemporaries(dir));
+}
+
+}  // namespace
