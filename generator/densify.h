@@ -1,6 +1,6 @@
 #pragma once
 // Step 4 of the generator: Levenberg-Marquardt densification of centres and radii
-// (Labra section 3.2.2-3.2.3) with Ceres on a sparse problem.
+// (Labra sections 3.2.1-3.2.3) with Ceres on a sparse problem.
 //
 // Unknowns: every centre and radius. Residuals, on the current contact graph:
 //   edge (i, j):        d = |xi - xj|^2 - (ri + rj)^2                    (Labra 3.1)

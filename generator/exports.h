@@ -1,5 +1,6 @@
 #pragma once
-// Exports of a packing to the formats users load elsewhere (design.md, "Files"):
+// Exports of a packing to the formats users load elsewhere (docs/exports.md, "Exports to
+// other codes"):
 //   VTU      VTK XML unstructured grid for ParaView: centres as points, a vertex cell per
 //            particle and a line cell per contact (bond).
 //   Yade     the sphere list `yade.ymport.text(filename)` reads.

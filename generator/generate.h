@@ -54,7 +54,8 @@ struct GeneratorOptions {
   double initial_radius_factor_max = 1.1;
 
   // Contact (bond) tolerance: pairs with |gap| <= contact_tolerance * mean radius are
-  // contacts of the output, Labra section 3.2 step 10. In (0, 0.2].
+  // contacts of the output (Labra section 3.2.3 updates the contact list with a tolerance
+  // it does not give). In (0, 0.2].
   double contact_tolerance = 0.02;
   // Largest overlap, relative to the mean radius, the densification may leave before the
   // final projection removes it exactly (the projection gives back that much density).

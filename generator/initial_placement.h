@@ -1,5 +1,5 @@
 #pragma once
-// Steps 1 and 2 of the generator (Labra section 3.2.1): nodes filling the domain at the
+// Steps 1 and 2 of the generator (Labra section 3.2.4): nodes filling the domain at the
 // spacing implied by the requested size, and Stienen-like initial radii.
 //
 // Nodes. Labra takes the interior nodes of a randomly perturbed finite-element mesh. We

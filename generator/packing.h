@@ -1,8 +1,8 @@
 #pragma once
 // The Packing: what generate-packing produces and every later stage consumes. A value
 // type: the domain, the particle centres and radii, and the contact list (the pairs that
-// become bonds downstream). Conventions (design.md): gap g = |xj - xi| - ri - rj,
-// negative = overlap.
+// become bonds downstream). Conventions (docs/solver.md, "Conventions"): gap
+// g = |xj - xi| - ri - rj, negative = overlap.
 
 #include <array>
 #include <cstdint>

@@ -1,6 +1,6 @@
 #pragma once
-// Pictures of a packing, drawn by gnuplot from CSV files written first (design.md,
-// "Files"), so a user can restyle them from the same numbers:
+// Pictures of a packing, drawn by gnuplot from CSV files written first (docs/generator.md,
+// "Outputs"), so a user can restyle them from the same numbers:
 //   <prefix>_particles.csv, <prefix>_packing.png (2D only): the discs to scale, coloured
 //       by radius, with the domain outline; contacts as thin lines for small packings.
 //   <prefix>_radii.csv, <prefix>_radius_histogram.png: particle counts per radius bin and

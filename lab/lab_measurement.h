@@ -30,7 +30,7 @@ CurvePeak FindPeak(const std::vector<LabCurvePoint>& curve, double post_peak_fra
 bool InterpolateAtControl(const std::vector<LabCurvePoint>& curve, int last_index, double level,
                           LabCurvePoint* state);
 
-// Plane-strain constants of a 2D model from its in-plane ones (design.md):
+// Plane-strain constants of a 2D model from its in-plane ones (docs/lab.md, "Measurement"):
 // nu = nu' / (1 + nu'), E = E' (1 - nu^2).
 void PlaneStrainFromInPlane(double in_plane_youngs_pa, double in_plane_poisson,
                             double* youngs_pa, double* poisson);

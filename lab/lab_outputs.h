@@ -16,7 +16,7 @@
 // The data files are written to temporary names and renamed together (common/atomic_file.h);
 // the pictures come last, and a missing gnuplot only costs the pictures (a warning).
 // Strains are tension positive in the tensor columns; the "axial" columns are positive in
-// compression (design.md: reported strengths are positive numbers).
+// compression (docs/lab.md, "Measurement", signs: reported strengths are positive numbers).
 
 #include <nlohmann/json_fwd.hpp>
 #include <string>

@@ -9,9 +9,9 @@
 //   domain = "rectangle 0 0 0.05 0.05"  # generate the specimen: domain, and count or
 //   count = 5000                        #   mean_radius [m], seed (generator defaults otherwise)
 //   seed = 1
-//   scale_density = true              # rho' = rho / (1 - e) (Labra section 4.2.2)
+//   scale_density = true              # rho' = rho / (1 - e) (Labra Tables 4.8, 4.11)
 //
-//   [material]                        # SI units; 2D per unit thickness (design.md)
+//   [material]                        # SI units; 2D per unit thickness (docs/solver.md)
 //   normal_stiffness = 14.392e9       # kn [N/m]
 //   tangential_stiffness = 2.868e9    # kt [N/m]
 //   bond_tensile_strength = 4962.3    # Rn [N]; inf (or omitted) = unbreakable

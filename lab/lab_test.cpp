@@ -130,7 +130,7 @@ LabTestResult RunLabTest(const Packing<Dim>& packing, const MaterialParameters& 
 
   // 2. The material the simulation uses: scaled density, the protocol's damping.
   MaterialParameters used = material;
-  if (options.scale_density)  // Labra section 4.2.2: rho' = rho / (1 - e)
+  if (options.scale_density)  // Labra Tables 4.8, 4.11, section 6.2.2: rho' = rho / (1 - e)
     used.density_kg_per_m3 = material.density_kg_per_m3 / (1.0 - specimen.nominal_porosity);
   used.translational_damping = used.rotational_damping = options.local_damping;
   used.normal_dashpot_ratio = used.tangential_dashpot_ratio = options.dashpot_ratio;

@@ -9,7 +9,7 @@
 //   LabTestResult result = RunLabTest<2>(packing, material, options);
 //   std::cout << result.FullReport();             // E, nu (in-plane and plane strain), UCS
 //
-// The tests (Labra 2012 section 4.2; Madan 2019 section 4.5):
+// The tests (Labra 2012 sections 4.2.2 and 4.3; Madan 2019 section 4.5):
 //  - kUniaxialCompression: a rectangle (2D), cylinder or box (3D) between two rigid,
 //    frictionless platens (walls placed at the extreme particles, stiffness kn), each moving
 //    towards the other at the speed V; through the peak until the axial stress has fallen to
@@ -35,7 +35,8 @@
 // where its boundary forces act); strain by Bagi's method (homogenisation_strain.h) and
 // from the platen displacement; secant E, nu over [modulus_window_low,
 // modulus_window_high] x peak (Labra: 1-50 %), in 2D both the in-plane E', nu' and the
-// plane-strain E = E'(1 - nu^2), nu = nu'/(1 + nu') (design.md; Labra's (4.33) is wrong).
+// plane-strain E = E'(1 - nu^2), nu = nu'/(1 + nu') (docs/lab.md, "Measurement"; Labra's
+// (4.33) is wrong, docs/sources.md, "Errata").
 //
 // What E and nu mean (measured; tests/lab/lab_oracles_test.cpp):
 //  - Strain region. The outer particle layers of a generated specimen are more compliant
@@ -46,7 +47,7 @@
 //    size effect and matches the uniform-strain (Voigt) estimate with the interior contact
 //    density within 1.3 % for E' and +0.002..+0.022 for nu' (kt/kn 1.25..0), the regular
 //    hexagonal lattice's closed forms within 0.3 %, and K, G of the isotropic and pure shear
-//    tests within 1.5 % (Madan A14).
+//    tests within 1.5 % (Madan section 4.5; check A14 of docs/sources.md).
 //  - Damage in the window. With Labra's parameters (kt/kn = 0.2, Rt/Rn = 10) bonds start to
 //    break in tension, across the loading axis, at 40-45 % of the peak: 800 of 14,800 bonds
 //    are broken at 50 % of it (5,000 discs), and the 1-50 % secant nu' is 0.40-0.58 (plane
@@ -85,10 +86,11 @@
 // closer to constant (5,064 discs 59 MPa at Rn 4962 N; 10,044 discs 104 MPa at Rn 8656 N).
 //
 // Damping belongs to the protocol, not the material: local non-viscous damping
-// alpha_t = alpha_r = local_damping (Labra note 1.5 gap: 0.7, PFC's default) and contact
-// dashpots at dashpot_ratio of critical replace the material's damping fields. The
-// dashpot ratio is small (0.1): at quasi-static rates the viscous forces are below 1e-4 of
-// the elastic ones, and each 0.1 costs about 10 % of the time step (Labra (2.53)).
+// alpha_t = alpha_r = local_damping (0.7, PFC's default: Labra 2012, section 2.4, gives no
+// value) and contact dashpots at dashpot_ratio of critical replace the material's damping
+// fields. The dashpot ratio is small (0.1): at quasi-static rates the viscous forces are
+// below 1e-4 of the elastic ones, and each 0.1 costs about 10 % of the time step (Labra
+// (2.53)).
 //
 // Inertia scaling (mass_scaling_budget, default 0.01; particles.h MassScalingSummary): the
 // time step is set by the lightest, stiffest particles, a few small ones of a polydisperse
@@ -193,7 +195,7 @@ struct LabTestOptions {
 
   // --- Measurement ---
   // Secant window, fractions of the peak control stress (of the largest one when there is
-  // no peak), 0 < low < high < 1 (Labra section 4.2.2: 1-50 %).
+  // no peak), 0 < low < high < 1 (Labra section 4.3.1: 1-50 %).
   double modulus_window_low = 0.01;
   double modulus_window_high = 0.5;
   // The linear portion of a compression test (LabTestResult::linear_elastic, the ISRM
@@ -260,7 +262,8 @@ struct LabTestOptions {
 };
 
 // One sample of the curve. Tensors are 3 x 3 (2D: the xy block, zeros elsewhere), tension
-// positive (design.md); the scalar "control" quantities are positive in compression.
+// positive; the scalar "control" quantities are positive in compression (docs/lab.md,
+// "Measurement", signs).
 struct LabCurvePoint {
   long step = 0;
   double time_s = 0.0;

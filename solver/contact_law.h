@@ -5,10 +5,10 @@
 // (Madan (2.33)-(2.37)); in DDEM scenes the normal force acts on the deformed overlap
 // (Madan (2.53)-(2.54)).
 //
-// Conventions (design.md): n = (xj - xi)/|xj - xi|; gap g = |xj - xi| - ri - rj - g0
-// (g0: the initial gap of a bond created stress-free, else 0); the normal force on i is
-// fn n with fn = kn g: tension positive. The stored tangential force is the
-// force on i; it grows along the relative tangential velocity of j with respect to i
+// Conventions (docs/solver.md, "Conventions"): n = (xj - xi)/|xj - xi|; gap
+// g = |xj - xi| - ri - rj - g0 (g0: the initial gap of a bond created stress-free, else 0);
+// the normal force on i is fn n with fn = kn g: tension positive. The stored tangential
+// force is the force on i; it grows along the relative tangential velocity of j with respect to i
 // (Labra's printed (2.20) has the sign of the force on j, see the errata). Before each
 // update it is rotated into the current contact plane (RotateTangentialForce).
 //

@@ -54,8 +54,8 @@ struct ForceIterationSummary {
 
 // The implicit iteration on the state's current positions (no motion). Bonded contacts
 // follow fn = kn g_c in tension and compression, unbonded ones min(0, kn g_c); tangential
-// forces are kept (Madan section 2.1, assumption 5); point loads at the current time and
-// the wall forces of the last step enter the particle stress unchanged. Leaves the
+// forces are kept (Madan section 2.6: unaffected by the deformation); point loads at the
+// current time and the wall forces of the last step enter the particle stress unchanged. Leaves the
 // converged (or last) forces and strains in the state. Throws InputError for rigid
 // particles or invalid options.
 template <int Dim>

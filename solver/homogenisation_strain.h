@@ -1,5 +1,5 @@
 #pragma once
-// The average strain of a particle assembly by Bagi's method (Labra note section 1.8,
+// The average strain of a particle assembly by Bagi's method (Labra 2012, section 4.2.2 and
 // App. B; Bagi 1996; Madan (4.4)-(4.6)): the particle centres are triangulated (Delaunay,
 // CGAL, in the reference configuration), the centre displacements are interpolated
 // linearly (P1) over each cell, and the cell gradients are averaged with the cell volumes:

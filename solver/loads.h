@@ -5,7 +5,7 @@
 // A point load acts at a point of the particle surface, s = R d (d a unit direction, e.g.
 // the pole d = +e_y of a top-row particle in Madan's SC test). It adds the force and the
 // moment s x F to the particle and, in a DDEM scene, the surface traction term s (x) F to
-// the particle stress (Madan section 2.2: "the averaging formula should also include
+// the particle stress (Madan section 2.3: "the averaging formula should also include
 // reaction forces and other external surface forces").
 
 #include <array>

@@ -1,7 +1,7 @@
 #pragma once
-// The bonded-particle material: global contact constants (Labra 2012, section 2.4: the
+// The bonded-particle material: global contact constants (Labra 2012, section 2.3: the
 // same kn, kt, Rn, Rt, mu for every contact, not scaled by radius), particle density,
-// damping, and the optional DDEM particle elasticity (Madan 2019, section 2.3). Also the
+// damping, and the optional DDEM particle elasticity (Madan 2019, section 2.4). Also the
 // particle compliance D_p of Madan (2.46)-(2.49) and its inverse.
 //
 // Units are SI. 2D quantities are per unit thickness l = 1 m: kn, kt in N/m, strengths in

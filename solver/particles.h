@@ -43,7 +43,7 @@ struct ParticleArrays {
   std::vector<Vector<Dim>> velocity;           // [m/s], at the half step
   std::vector<Angular<Dim>> angular_velocity;  // [rad/s], at the half step
   // 2D: accumulated rotation angle [rad]. 3D: empty; rotations are incremental and the
-  // orientation is not tracked (Labra section 2.6: the contact law does not need it).
+  // orientation is not tracked (Labra section 2.5: the contact law does not need it).
   std::vector<double> rotation_angle;
   std::vector<double> radius;           // [m]
   std::vector<double> mass;             // [kg]

@@ -50,7 +50,8 @@ struct ContactDetectionOptions {
   // start as unbonded (frictional) contacts.
   double bond_gap_tolerance = 0.05;
   // true: a bond's zero-force gap is its initial gap, so the specimen starts stress-free
-  // (Labra note 1.4 suggestion); false: zero, initial gaps and overlaps load the bonds.
+  // (Labra 2012 leaves the initial bonds open; docs/solver.md, "Bonds and the contact
+  // law"); false: zero, initial gaps and overlaps load the bonds.
   bool stress_free_bonds = true;
   // Search for contacts between particles that are not bonded (after breakage, or when a
   // deformed particle bulges into a neighbour, Madan Fig. 2.4).

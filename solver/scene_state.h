@@ -103,7 +103,7 @@ struct ConstraintTable {
   std::vector<double> amplitude;  // per set, at the current half step t_{n+1/2}
 };
 
-// Running totals of the energy audit (design.md; Madan (2.55)-(2.61)).
+// Running totals of the energy audit (docs/solver.md, "Energy balance"; Madan (2.55)-(2.61)).
 struct EnergyAccumulators {
   double load_work_j = 0.0;              // point loads, on the centres and (DDEM) the deformation
   double load_deformation_work_j = 0.0;  // the part through the deformation of the load point

@@ -371,7 +371,7 @@ bool Simulation<Dim>::SearchNeeded() const {
   const double strain_growth =
       plan_.deformable ? std::max(0.0, s.max_strain - s.strain_margin_at_search) : 0.0;
   // Two particles approach by at most twice the largest displacement; their deformed
-  // surfaces bulge by at most R_max |eps| each (Madan section 2.5: search margin).
+  // surfaces bulge by at most R_max |eps| each (Madan (2.52): a surface point moves by eps s).
   if (plan_.neighbour_search &&
       2.0 * s.displacement_since_search_m + 2.0 * s.max_radius_m * strain_growth >= s.search_skin_m)
     return true;
@@ -484,7 +484,8 @@ RunSummary Simulation<Dim>::Run(const RunOptions& options) {
     last_loaded_contacts_ = t.loaded_contacts;
     last_unbalanced_ratio_ = t.mean_force_n > 0.0 ? t.max_unbalanced_force_n / t.mean_force_n : 0.0;
 
-    // Divergence (design.md: NaN, energy or force growth stops the run, naming the step).
+    // Divergence (docs/solver.md, "Divergence detection": NaN, energy or force growth stops
+    // the run, naming the step).
     const double supplied = std::max(s.energy.supplied_j, std::numeric_limits<double>::min());
     if (!t.finite) {
       std::string where;

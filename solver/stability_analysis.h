@@ -25,25 +25,26 @@
 //    particle's modal damping ratio is up to sqrt(Z) xi, and the single factor was up to 11 %
 //    unsafe in the benchmark (xi = 0.3). Local damping: 1 / sqrt(1 + alpha), exact at z = -1
 //    (the damping force of an eigenmode is alpha times its elastic force).
-// 2. DDEM convergence: rho(B) of the force iteration (note section 3.7 item 4) for the packing,
-//    from lambda_max of the Ep-free operator S^ = Ep S: rho(B) = lambda_max(S^) / Ep, and the
-//    admissible kn/(Ep l) (2D, l = 1 m; kn/(Ep R_mean) in 3D) = kn / (l lambda_max(S^)) at
-//    rho(B) = 1, with its share max_spectral_radius (default 0.95) as the recommended largest
-//    kn/(Ep l) and the smallest Ep that keeps rho(B) <= max_spectral_radius; next to the
-//    closed-form row, SC and HCP limits (stability_closed_forms.h).
+// 2. DDEM convergence: rho(B) of the force iteration (Madan (3.8)-(3.13); docs/stability.md,
+//    "DDEM convergence: rho(B)") for the packing, from lambda_max of the Ep-free operator
+//    S^ = Ep S: rho(B) = lambda_max(S^) / Ep, and the admissible kn/(Ep l) (2D, l = 1 m;
+//    kn/(Ep R_mean) in 3D) = kn / (l lambda_max(S^)) at rho(B) = 1, with its share
+//    max_spectral_radius (default 0.95) as the recommended largest kn/(Ep l) and the smallest
+//    Ep that keeps rho(B) <= max_spectral_radius; next to the closed-form row, SC and HCP
+//    limits (stability_closed_forms.h).
 // 3. DDEM critical time step: the explicit scheme uses the strains of the previous step's
 //    forces (Madan (3.17)), f^n = K_c C u^n - L f^(n-1). An oscillation at the stability
 //    boundary z = -1 has f^(n-1) = -f^n, so its forces are (I - L)^-1 K_c C u: the effective
 //    stiffness is K_eff = C^T (I - L)^-1 K_c C, stiffer than K (L >= 0), and
 //    dt_cr(DDEM) = 2 / sqrt(lambda_max(M^-1/2 K_eff M^-1/2)). For a single mode this is exactly
 //    the z = -1 root of Madan's row polynomial z^3 + (b - 2 + Omega^2) z^2 + (1 - 2b) z + b
-//    (Omega^2 < 4 (1 - b), note 3.7 item 2), whose other Jury conditions are weaker for
-//    0 <= b < 1. With kt = 0, K_eff = C^T (K_c^-1 - M)^-1 C is symmetric; with tangential
-//    springs the tangential forces enter the strain but are not corrected by it (Madan
-//    assumption 5), K_eff is not symmetric, and its symmetric part is used: its largest
-//    eigenvalue bounds the real eigenvalues of K_eff from above (field of values) and equals
-//    them to first order. Without dashpots no inner solve is needed: with
-//    A = K_n^1/2 C M^-1/2 the operator of normal springs is A^T (I - S)^-1 A, whose nonzero
+//    (Omega^2 < 4 (1 - b), docs/stability.md, "The DDEM critical time step"), whose other
+//    Jury conditions are weaker for 0 <= b < 1. With kt = 0, K_eff = C^T (K_c^-1 - M)^-1 C
+//    is symmetric; with tangential springs the tangential forces enter the strain but are
+//    not corrected by it (Madan section 2.6), K_eff is not symmetric, and its symmetric part
+//    is used: its largest eigenvalue bounds the real eigenvalues of K_eff from above (field
+//    of values) and equals them to first order. Without dashpots no inner solve is needed:
+//    with A = K_n^1/2 C M^-1/2 the operator of normal springs is A^T (I - S)^-1 A, whose nonzero
 //    eigenvalues are those of the pencil A A^T v = lambda (I - S) v on the links, and
 //    lambda_max is the fixed point of lambda_max(A A^T + lambda S) = lambda (Newton, then
 //    certified). With tangential springs the symmetric part is bounded from above by an
@@ -51,7 +52,8 @@
 //    the .cpp: it drops a negative semi-definite term; 0-0.2 % lower steps than the
 //    symmetric part in tests/solver/stability_extreme_test.cpp, 0.05 % on 50,000 spheres).
 //    With dashpots (I - L)^-1 is applied by conjugate gradients on I - S (inner solves).
-//    As rho(B) -> 1 the DDEM step falls to zero: the two limits interact (note 3.7 item 3).
+//    As rho(B) -> 1 the DDEM step falls to zero: the two limits interact (docs/stability.md,
+//    "The DDEM critical time step").
 //    Dashpots enter as in item 1 (their forces also enter the particle stress).
 // 4. Verdict for the proposed (or the recommended) time step: unstable beyond a limit,
 //    marginal within time_step_margin of dt_cr or with rho(B) above max_spectral_radius,

@@ -1,6 +1,6 @@
 #pragma once
 // Closed-form convergence limits of the DDEM force iteration on regular packings of equal
-// particles (Madan 2019; note ddem-madan-2019.md sections 3.2-3.5), the references the
+// particles (Madan 2019, sections 3.4-3.6: (3.27), (3.42), (3.78)), the references the
 // stability analysis prints next to the limit of the actual packing.
 //
 // 2D (discs, thickness l), plane strain, limits on kn/(Ep l) (rho(B) = 1):

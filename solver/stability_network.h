@@ -28,12 +28,13 @@
 // point is d = (u_j + theta_j x s_j) - (u_i + theta_i x s_i); the normal spring acts on n.d,
 // the tangential spring on d - (n.d) n, so K = sum_links kn b_n b_n^T + kt B_t^T B_t.
 //
-// The DDEM force iteration (Madan note 3.7 item 4; Madan (2.41)-(2.54)): a particle's strain
-// is eps_p = D_p (1/V_p) sym(sum_c s_c (x) F_c) over its links (wall forces included, with the
-// arm -R normal, as the solver does; point loads are constant and do not enter the iteration),
-// and the normal gap of link c is corrected by -sum_p R_p n_c.eps_p.n_c. For normal forces
-// this is f <- A - B f with B = K_n M, M_cd = sum_{p in c, d} (R_p^2/V_p)(n_c n_c):D_p:(n_d n_d)
-// symmetric positive semi-definite, so rho(B) = lambda_max(S), S = K_n^1/2 M K_n^1/2.
+// The DDEM force iteration (Madan (2.41)-(2.54), (3.8)-(3.13); docs/stability.md, "DDEM
+// convergence: rho(B)"): a particle's strain is eps_p = D_p (1/V_p) sym(sum_c s_c (x) F_c)
+// over its links (wall forces included, with the arm -R normal, as the solver does; point
+// loads are constant and do not enter the iteration), and the normal gap of link c is
+// corrected by -sum_p R_p n_c.eps_p.n_c. For normal forces this is f <- A - B f with
+// B = K_n M, M_cd = sum_{p in c, d} (R_p^2/V_p)(n_c n_c):D_p:(n_d n_d) symmetric positive
+// semi-definite, so rho(B) = lambda_max(S), S = K_n^1/2 M K_n^1/2.
 
 #include <array>
 #include <string>

@@ -119,7 +119,7 @@ std::string StabilitySummary::FullReport() const {
   out << Line("  critical %.6g s (%s)\n  recommended %.6g s (safety factor %.3g)\n",
               critical_time_step_s, critical_time_step_method.c_str(), recommended_time_step_s,
               safety_factor);
-  out << "\nDDEM convergence (force iteration, Madan (3.13), note 3.7 item 4)\n";
+  out << "\nDDEM convergence (force iteration, Madan (3.13); docs/stability.md)\n";
   out << Line("  lambda_max(S^) = rho(B) x Ep: %.8g Pa; %s\n", unit_spectral_radius_pa,
               EigenvalueLine(convergence_eigenvalue, "Pa").c_str());
   if (deformable)

@@ -1,8 +1,8 @@
 #pragma once
-// The stages of a time step, chosen once from the scene before the loop (design.md, "Leave
-// out what a given scene does not need"). Each flag selects an instantiation of a pass
-// (SelectContactPass, SelectParticlePass) or switches a small pass on; nothing tests these
-// flags per contact inside the loops.
+// The stages of a time step, chosen once from the scene before the loop, leaving out what a
+// given scene does not need (docs/solver.md, "Stage plan"). Each flag selects an
+// instantiation of a pass (SelectContactPass, SelectParticlePass) or switches a small pass
+// on; nothing tests these flags per contact inside the loops.
 //
 // A step, in order (stages in brackets exist only when the plan says so):
 //   [neighbour_search]  rebuild candidate pairs and wall contacts when anything moved,

@@ -20,17 +20,19 @@
 // What it is worth:
 //  - exact for the SC (square) lattice (k_eff = 4 kn: dt_cr = sqrt(m/kn), Madan (3.46)) and
 //    for the infinite triangular lattice with central springs (k_eff = 6 kn: 2 sqrt(m/6kn)
-//    = the M-point limit, lattice note section 3.2);
+//    = the M-point limit omega_max^2 = 6 kn/m, docs/sources.md, section 3, O6);
 //  - a rigorous lower bound of the true limit is dt_cr / sqrt(2): with
 //    u.K.u = sum_c k_c (b_c.u)^2 <= sum_c 2 k_c (|u_i|^2_c + |u_j|^2_c) (per contact, with the
 //    mass-weighted norms above), omega_max^2 <= max_i 2 k_eff,i / m_i (Gershgorin-type);
 //  - not a bound for irregular packings: Madan's 4979-disc specimen was stable up to about
-//    0.93 of sqrt(m_min / k_max); DDEM lowers the limit by 0.1-1.4 % (Madan note section 3.7).
+//    0.93 of sqrt(m_min / k_max) (Madan (4.30)); DDEM lowered that limit by 1.4 % (Madan
+//    section 4.5, Figs. 4.11-4.12) and lowers those of the SC and HCP specimens by 0.15-0.46 %
+//    (docs/stability.md, "The DDEM critical time step").
 // Hence the default safety factor 0.7 (< 1/sqrt(2)): provably stable for linear undamped
 // contacts between rigid particles.
 //
 // DDEM (deformable particles): the critical time step checked against stays the DEM bound
-// above (Madan section 3.3: "the critical time step remains the same for standard and
+// above (Madan section 3.5: "the critical time step remains the same for standard and
 // deformable DEM", true of the lattices' highest modes, whose alternating contact forces
 // cancel in the particle stress). But the explicit strain lag (Madan (3.17)) does lower the
 // limit of modes whose forces do not cancel. Two discs, one contact: f_n = -kn h_n - beta

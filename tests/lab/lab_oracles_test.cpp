@@ -1,8 +1,9 @@
-// The virtual laboratory (lab/lab_test.h) against its oracles: the closed
-// forms of a regular hexagonal packing (lattice note O7), the Voigt estimate of an irregular
-// dense packing (Madan note section 4.3), the consistency of K and G from the isotropic and
-// pure shear tests with the UCS E and nu (Madan A14), and the Brazilian formula. Expected
-// values come from the notes' formulas, never from earlier output of this code.
+// The virtual laboratory (lab/lab_test.h) against its oracles: the closed forms of a regular
+// hexagonal packing (O7 of docs/sources.md), the Voigt estimate of an irregular dense packing
+// (Madan section 4.3, (4.15)-(4.18)), the consistency of K and G from the isotropic and pure
+// shear tests with the UCS E and nu (Madan section 4.5; A14 of docs/sources.md), and the
+// Brazilian formula. Expected values come from the sources' formulas, never from earlier
+// output of this code.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -29,7 +30,7 @@ MaterialParameters Unbreakable(double kn, double kt) {
 }
 
 // In-plane (2D) closed forms of a bonded disc assembly under uniform strain (Voigt), with
-// C = N_c <R^2> / V (Madan (4.15)-(4.18); lattice note O7 for the hexagonal lattice, where
+// C = N_c <R^2> / V (Madan (4.15)-(4.18); on the hexagonal lattice, O7 of docs/sources.md,
 // C = 3 R^2 / (2 sqrt(3) R^2) = sqrt(3)/2):
 //   E' = 4 C kn (kn + kt) / (3 kn + kt),  nu' = (kn - kt) / (3 kn + kt),
 //   K' = C kn,  G = C (kn + kt) / 2.
@@ -85,7 +86,7 @@ TEST(LabHexagonalLattice, O7ElasticConstantsFromUniaxialCompression) {
     const double e = r.elastic.youngs_modulus_in_plane_pa, nu = r.elastic.poisson_ratio_in_plane;
     EXPECT_NEAR(e, o7.youngs * width, 0.005 * o7.youngs);
     EXPECT_NEAR(nu, o7.poisson, 0.005 * std::max(o7.poisson, 1.0 / 3.0));
-    // Plane strain reading (design.md): nu = nu'/(1 + nu'), E = E'(1 - nu^2).
+    // Plane strain reading (docs/lab.md, "Measurement"): nu = nu'/(1 + nu'), E = E'(1 - nu^2).
     EXPECT_NEAR(r.elastic.poisson_ratio, nu / (1.0 + nu), 1e-12);
     // The linear portion (the ISRM average modulus, LinearPortionElasticConstants) of this
     // intact, linear specimen is the same closed form.
@@ -149,9 +150,10 @@ Packing<2>* LabIrregularPacking::packing_ = nullptr;
 
 constexpr double kMargin = 4.0;  // interior strain region, mean radii (the lab's default)
 
-// Madan note section 4.3 (A11): E/kn and nu against kt/kn from the UCS, no breakage, within a
-// few % of the Voigt estimate with this packing's N_c <R^2> / V. The note's anchor table uses
-// C = 0.8603 (Madan's 4979-disc specimen); ours is computed from the packing: 0.912 over the
+// Madan section 4.3, (4.15)-(4.16): E/kn and nu against kt/kn from the UCS, no breakage,
+// within a few % of the Voigt estimate with this packing's N_c <R^2> / V. Madan's 4979-disc
+// specimen has C = 0.8603 (section 4.5, (4.32): N_c = 14435, <R^2> = 1.49e-7 m^2,
+// V = 0.05 x 0.05 x 1 m^3); ours is computed from the packing: 0.912 over the
 // interior whose strain is measured with the contact R^2 = |l|^2/4 (0.884 over the whole
 // domain; 0.823 with the particles' <R^2>, Madan's form, which under-weights the large,
 // well-connected particles). Measured (1,544 discs): E' 0.5-1.3 % below Voigt, as an upper
@@ -264,7 +266,7 @@ TEST_F(LabIrregularPacking, LinearPortionIsTheIntactSpecimensAndIgnoresTheStreng
     EXPECT_DOUBLE_EQ(r.linear_elastic.window_high_pa, last_intact_control);
     EXPECT_LT(r.linear_elastic.window_high_pa, first_break_stress);
     EXPECT_NEAR(r.linear_elastic.window_low_pa, 0.2 * last_intact_control, 1e-9 * last_intact_control);
-    // Plane strain reading of the in-plane slopes (design.md).
+    // Plane strain reading of the in-plane slopes (docs/lab.md, "Measurement").
     const double nu_in_plane = r.linear_elastic.poisson_ratio_in_plane;
     EXPECT_NEAR(r.linear_elastic.poisson_ratio, nu_in_plane / (1.0 + nu_in_plane), 1e-12);
     EXPECT_NEAR(r.linear_elastic.youngs_modulus_pa,
@@ -282,8 +284,9 @@ TEST_F(LabIrregularPacking, LinearPortionIsTheIntactSpecimensAndIgnoresTheStreng
   }
 }
 
-// Madan A14: K from the isotropic test and G from the pure shear test agree with those of the
-// UCS E', nu' (2D: K' = E'/(2(1 - nu')), G = E'/(2(1 + nu'))) within 3 %.
+// A14 (docs/sources.md; Madan section 4.5, (4.33)-(4.36)): K from the isotropic test and G
+// from the pure shear test agree with those of the UCS E', nu' (2D: K' = E'/(2(1 - nu')),
+// G = E'/(2(1 + nu')), the 2D form of Madan's (4.11)-(4.12)) within 3 %.
 TEST_F(LabIrregularPacking, A14BulkAndShearModuliMatchUniaxial) {
   const double kn = 1e10;
   for (const double ratio : {0.0, 0.5}) {

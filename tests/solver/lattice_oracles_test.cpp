@@ -1,7 +1,7 @@
 // Lattice oracles: Madan's SC specimen under uniaxial load (A2 DEM, A3 DDEM, A4 energy
-// audit; Madan note section 9) and the hexagonal packing of equal discs under homogeneous
-// strain (O7, lattice note section 2). Expected values are the sources' closed forms and
-// tables, never numbers this code produced.
+// audit; Madan section 4.4, Tables 4.2-4.3) and the hexagonal packing of equal discs under
+// homogeneous strain (O7; the labels are those of docs/sources.md). Expected values are the
+// sources' closed forms and tables, never numbers this code produced.
 
 #include <gtest/gtest.h>
 
@@ -22,8 +22,9 @@ struct StaticResult {
   RunSummary summary;
 };
 
-// Loads ramped over ramp_s, local damping 0.3 (as the note's [V] runs), run until the
-// unbalanced force ratio is below 1e-11.
+// Loads ramped over ramp_s, local damping 0.3 (the thesis damps with contact dashpots,
+// xi_n = 5, Madan section 4.4; the static state does not depend on the damping), run until
+// the unbalanced force ratio is below 1e-11.
 StaticResult RunSquareToStatic(std::optional<double> particle_modulus, double ramp_s) {
   const Specimen specimen = SquareSpecimen();
   Simulation<2> simulation(specimen.packing, Scene(specimen, particle_modulus, ramp_s, 0.3));
@@ -120,7 +121,7 @@ TEST(MadanSquareLattice, A4EnergyAudit) {
 // O7: a hexagonal packing of equal discs with kn, kt under homogeneous (uniaxial) strain.
 // The boundary discs are driven on the affine field (translations, and zero spin, which is the
 // affine spin of a symmetric strain), the interior relaxes (damped) to it: by central symmetry
-// every interior disc is in equilibrium there, forces and moments (lattice note section 2); the
+// every interior disc is in equilibrium there, forces and moments; the
 // interior stress over the Voronoi cells (2 sqrt(3) R^2 each) gives lambda and mu, hence
 //   E = 2 sqrt(3) kn (kn + kt) / (3 kn + kt),  nu = (kn - kt) / (3 kn + kt)   (per unit l).
 TEST(HexagonalPacking, O7ElasticConstantsFromKnKt) {

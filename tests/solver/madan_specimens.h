@@ -1,5 +1,5 @@
 #pragma once
-// Madan's lattice specimens (thesis sections 3.5, 3.6, 4.4; note sections 3.3, 3.4, 4.4):
+// Madan's lattice specimens (thesis sections 3.5, 3.6, 4.4):
 // equal discs R = 1 mm, rho = 2000 kg/m^3, kn = 7e10 N/m, kt = 0, plane strain, 10 kN per
 // top/bottom-row particle applied at the poles (s = +-R e_y), ramped; middle column held
 // in x. SC: 9 columns x 20 rows; HCP: 17 rows alternating 6 and 7 discs.

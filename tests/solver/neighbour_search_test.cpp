@@ -1,6 +1,7 @@
 // Contact detection for unbonded pairs: the cell-list candidate search against brute force,
 // a collision of two free discs, and a contact found on the deformed shape (DDEM, Madan
-// section 2.5: a laterally bulging particle touches a neighbour its undeformed circle misses).
+// section 2.2, Fig. 2.4: a laterally bulging particle touches a neighbour its undeformed
+// circle misses).
 
 #include "solver/neighbour_search.h"
 

@@ -1,5 +1,5 @@
-// Scene composition (design.md: "leave out what a given scene does not need"), bad input,
-// divergence, the run summary, and thread-count independence.
+// Scene composition (docs/solver.md, "Stage plan": leave out what a given scene does not
+// need), bad input, divergence, the run summary, and thread-count independence.
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,10 @@
-// The stability analysis against the oracles of the notes: the closed forms of the DDEM
-// convergence limit (Madan A9, note 3.5), the finite-specimen limits of Madan Tables 3.2 and
-// 3.3 (numerical columns, note 3.7 item 3), the critical time steps of the SC and HCP
-// specimens for DEM and DDEM (A5, A6, note 3.7 item 1) confirmed by real runs, the exact
-// triangular-lattice limit (lattice note O6) confirmed by real runs, Ep -> infinity, a 3D
-// case, and the solver's use of the analysis. Expected values come from the sources.
+// The stability analysis against the oracles of the sources: the closed forms of the DDEM
+// convergence limit (A9: Madan (3.42), (3.78)), the finite-specimen limits of Madan Tables
+// 3.2 and 3.3 (numerical columns), the critical time steps of the SC and HCP specimens for
+// DEM and DDEM (A5, A6: Madan Figs. 3.7, 3.13) confirmed by real runs, the exact
+// triangular-lattice limit (O6) confirmed by real runs, Ep -> infinity, a 3D case, and the
+// solver's use of the analysis. The labels are those of docs/sources.md, the other expected
+// values those of docs/stability.md, "Validation".
 
 #include "solver/stability_analysis.h"
 
@@ -61,8 +62,8 @@ TEST(StabilityClosedForms, A9LargeBlocksApproachTheLatticeFormulas) {
     std::printf("A9 nu_p %.2f: SC 30x30 %.5f (formula %.5f), HCP 30x30 %.5f (formula %.5f)\n", nu,
                 sc_limit, formula.square, hcp_limit, formula.hexagonal);
   }
-  // Note 3.7 item 4: at kn/Ep = pi/(3 (1 + 0.35)) the HCP block has rho(B) = 0.997 at
-  // nu_p = 0.35 and 1.396 at nu_p = 0.05 (formulas 1.000 and 1.400).
+  // At kn/Ep = pi/(3 (1 + 0.35)) the HCP block has rho(B) = 0.997 at nu_p = 0.35 and 1.396
+  // at nu_p = 0.05 (formulas (3.78): 1.000 and 1.400; docs/stability.md, "Validation").
   const double ep = kNormalStiffness / (kPi / (3 * 1.35));
   const Packing<2> block = HexagonalLatticePacking(30, 30, 30, kRadius);
   EXPECT_NEAR(Analyse(block, PlainScene(ep, 0.35)).spectral_radius_ritz, 0.997, 0.003);
@@ -87,8 +88,9 @@ TEST(StabilityClosedForms, MadanTables32And33FiniteSpecimens) {
     std::printf("Tables 3.2/3.3 nu_p %.2f: SC %.4f (thesis %.3f), HCP %.4f (thesis %.3f)\n", nus[k],
                 s.admissible_kn_over_ep, table_32[k], h.admissible_kn_over_ep, table_33[k]);
   }
-  // Note 3.7 item 3: rho_finite(B) = 0.9928 at Ep = 1.19e11 and 1.0012 at 1.18e11 (SC, 0.35);
-  // HCP 0.99987 at 8.83e10.
+  // The thesis' stable / unstable Ep, 1.19e11 / 1.18e11 (SC, nu_p 0.35, Fig. 3.5), lie on
+  // either side of rho(B) = 1 of the finite specimen: 0.9928 and 1.0012; HCP 0.99987 at
+  // 8.83e10 (Fig. 3.11; docs/stability.md, "Validation").
   EXPECT_NEAR(Analyse(sc.packing, Scene(sc, 1.19e11, 1e-4, 0.0)).spectral_radius_ritz, 0.9928,
               2e-4);
   EXPECT_NEAR(Analyse(sc.packing, Scene(sc, 1.18e11, 1e-4, 0.0)).spectral_radius_ritz, 1.0012,
@@ -119,15 +121,17 @@ std::string RunFromRandomVelocities(const Specimen& specimen, std::optional<doub
   return "";
 }
 
-// A5/A6 and note 3.7 item 1: the predicted critical steps lie between the thesis' stable and
-// unstable steps, match the note's bisections (SC DEM 3.00525e-7, DDEM 3.00096e-7, -0.14 %;
-// HCP DEM 2.4745e-7, DDEM 2.4640e-7, -0.42 %) from the safe side, and real runs confirm them.
+// A5/A6: the predicted critical steps lie between the thesis' stable and unstable steps
+// (Figs. 3.7, 3.13), match independent bisections with undamped explicit runs (SC DEM
+// 3.00525e-7 = sqrt(m/kn) / sin(19 pi/40), the free-free 20-disc chain, cf. Madan (3.44);
+// DDEM 3.00096e-7, -0.14 %; HCP DEM 2.4745e-7, DDEM 2.4640e-7, -0.42 %; docs/stability.md,
+// "Validation") from the safe side, and real runs confirm them.
 TEST(StabilityTimeStep, A5A6SquareAndHexagonalSpecimens) {
   struct Case {
     const char* name;
     Specimen specimen;
     double stable, unstable;     // thesis
-    double note_dem, note_ddem;  // note bisections
+    double bisected_dem, bisected_ddem;  // independent bisections
   };
   const Case cases[] = {
       {"SC", SquareSpecimen(), 2.9959e-7, 3.0559e-7, 3.00525e-7, 3.00096e-7},
@@ -143,10 +147,10 @@ TEST(StabilityTimeStep, A5A6SquareAndHexagonalSpecimens) {
       EXPECT_GT(dt, c.stable);
       EXPECT_LT(dt, c.unstable);
     }
-    EXPECT_NEAR(dem.critical_time_step_s, c.note_dem, 0.0005 * c.note_dem);
-    EXPECT_LE(ddem.critical_time_step_s, c.note_ddem);  // the safe side of the bisection
-    EXPECT_NEAR(ddem.critical_time_step_s, c.note_ddem, 0.001 * c.note_ddem);
-    // The DDEM reduction (note: 0.14 % and 0.42 %).
+    EXPECT_NEAR(dem.critical_time_step_s, c.bisected_dem, 0.0005 * c.bisected_dem);
+    EXPECT_LE(ddem.critical_time_step_s, c.bisected_ddem);  // the safe side of the bisection
+    EXPECT_NEAR(ddem.critical_time_step_s, c.bisected_ddem, 0.001 * c.bisected_ddem);
+    // The DDEM reduction (bisected: 0.14 % and 0.42 %).
     EXPECT_GT(ddem.ddem_reduction_percent, 0.1);
     EXPECT_LT(ddem.ddem_reduction_percent, 0.5);
     // Real runs: bounded at the predicted steps, diverging 0.5 % above.
@@ -158,13 +162,14 @@ TEST(StabilityTimeStep, A5A6SquareAndHexagonalSpecimens) {
         "");
     EXPECT_NE(RunFromRandomVelocities(c.specimen, 2e11, 1.005 * ddem.critical_time_step_s, 4000),
               "");
-    std::printf("%s: dt_cr DEM %.6e (note %.5e), DDEM %.6e (note %.5e), reduction %.3f %%\n",
-                c.name, dem.critical_time_step_s, c.note_dem, ddem.critical_time_step_s,
-                c.note_ddem, ddem.ddem_reduction_percent);
+    std::printf("%s: dt_cr DEM %.6e (bisected %.5e), DDEM %.6e (bisected %.5e), "
+                "reduction %.3f %%\n",
+                c.name, dem.critical_time_step_s, c.bisected_dem, ddem.critical_time_step_s,
+                c.bisected_ddem, ddem.ddem_reduction_percent);
   }
 }
 
-// Lattice note O6 (section 3.2): the triangular lattice with central springs has
+// O6 (docs/sources.md, section 3): the triangular lattice with central springs has
 // omega_max^2 = 6 kn / m; a free finite block comes close from the stable side. A run at 0.99
 // of the predicted step stays bounded, one at 1.01 diverges.
 TEST(StabilityTimeStep, O6TriangularLatticeLimit) {

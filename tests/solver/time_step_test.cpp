@@ -62,7 +62,7 @@ TEST(CriticalTimeStep, DampingFactors) {
   EXPECT_NEAR(deformable.critical_time_step().ddem_ratio_estimate, beta, 1e-12);
   EXPECT_NEAR(deformable.time_step_s(),
               0.7 * std::sqrt(kMass / kNormalStiffness) * std::sqrt(1 - beta), 1e-20);
-  // The limit a given step is checked against is the DEM one (Madan section 3.3).
+  // The limit a given step is checked against is the DEM one (Madan section 3.5).
   EXPECT_NEAR(deformable.critical_time_step().critical_time_step_s,
               std::sqrt(kMass / kNormalStiffness), 1e-20);
 }
@@ -78,7 +78,8 @@ TEST(CriticalTimeStep, RefusesAStepAboveTheLimitUnlessForced) {
     const std::string message = e.what();
     EXPECT_NE(message.find("time_step_s = 3.0559e-07"), std::string::npos) << message;
     // The default limit is the stability analysis': the free-free 20-disc chain,
-    // sqrt(m/kn) / sin(19 pi / 40) = 3.00525e-7 s (note 3.7 item 1), certified from below.
+    // sqrt(m/kn) / sin(19 pi / 40) = 3.00525e-7 s (cf. Madan (3.44); docs/stability.md,
+    // "Validation"), certified from below.
     EXPECT_NE(message.find("critical time step 3.0052"), std::string::npos) << message;
     EXPECT_NE(message.find("stability analysis"), std::string::npos) << message;
     EXPECT_NE(message.find("allow_above_critical"), std::string::npos) << message;

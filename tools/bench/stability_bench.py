@@ -8,7 +8,7 @@
 1. Packings by generate-packing (r_max/r_min <= 10): 2D 500 discs, 3D 500 spheres, 2D with a
    mean radius of 1e-5 m; and Madan's SC 9x20 / HCP 110-disc lattices (written by
    stability-bench --write-lattices) for the wall rows.
-2. The grid of the issue, each row one stability-bench run (tools/bench/stability_bench.cpp):
+2. The grid of cases, each row one stability-bench run (tools/bench/stability_bench.cpp):
    the certified prediction of the analysis against a bisection with real, undamped solver
    runs (stable = the energy stays bounded over a fixed number of steps, from random initial
    velocities), on the time step (--mode dt) or on kn/(Ep l) at a small fixed step (--mode ep).
