@@ -17,6 +17,8 @@
 
 #include "common/error.h"
 #include "generator/generate.h"
+#include "solver/lattice_stability.h"
+#include "tests/solver/lattice_dynamics.h"
 
 namespace specimen {
 namespace {
@@ -272,6 +274,26 @@ TEST(LatticePacking, OrthotropicModuliAlongBothAxesAndAt45Degrees) {
         LatticeUniaxial(OrthotropicPlaneElasticity(o, PlaneModel::kPlaneStress), 2500.0, 1e-6 * kSide);
     ASSERT_TRUE(r.converged) << c.angle_deg << " deg";
     EXPECT_NEAR(r.youngs_modulus / c.expected_modulus, 1.0, 1e-6) << c.angle_deg << " deg";
+  }
+}
+
+// The critical step of the Lanczos analysis against bisection by real runs: central
+// differences from a random field stay bounded at 0.99 of it and diverge at 1.01.
+TEST(LatticePacking, CriticalTimeStepMatchesBisection) {
+  const double density = 2500.0;
+  for (double nu : {0.0, 0.3, 0.45}) {
+    const PackingLattice lattice = BuildPackingLattice(
+        SquarePacking(), IsotropicPlaneElasticity(30e9, nu, PlaneModel::kPlaneStrain), 1.0, {}, nullptr);
+    const int n = lattice.node_count();
+    const LatticeStability s = AnalyseLatticeStability(lattice.triangles, LumpedMasses(lattice.triangles, n, density), {});
+    EXPECT_GT(s.critical_time_step_s, 0.0);
+    EXPECT_LE(s.gershgorin_time_step_s, s.critical_time_step_s * (1.0 + 1e-12));
+    // The certified bound lies within its tolerance of the Ritz value.
+    EXPECT_NEAR(s.omega_max_squared / s.lanczos.ritz_value, 1.0, 0.005);
+    EXPECT_LT(CentralDifferenceGrowth(lattice.triangles, n, density, 0.99 * s.critical_time_step_s, 4000), 1e-7)
+        << "nu " << nu;
+    EXPECT_GT(CentralDifferenceGrowth(lattice.triangles, n, density, 1.01 * s.critical_time_step_s, 4000), 1e-3)
+        << "nu " << nu;
   }
 }
 
