@@ -1,0 +1,341 @@
+#include "lab/lattice_lab_test.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "common/error.h"
+#include "lab/lab_measurement.h"
+#include "solver/lattice_packing.h"
+#include "solver/lattice_stability.h"
+
+namespace specimen {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Node sets of the specimen: the platen nodes, the sides, the nodes held in x.
+struct Supports {
+  std::vector<int> top, bottom, left, right, held_x;
+};
+
+Supports RectangleSupports(const PackingLattice& p, const Domain<2>& domain) {
+  Supports s;
+  const Vector<2> lo = domain.Lower(), hi = domain.Upper();
+  const double tol = 1e-9 * domain.SmallestExtent();
+  int corner = -1;
+  for (int i = p.particle_nodes; i < p.node_count(); ++i) {
+    const Vector<2>& x = p.nodes[i];
+    const bool bottom = x.y() < lo.y() + tol, top = x.y() > hi.y() - tol;
+    if (bottom) s.bottom.push_back(i);
+    if (top) s.top.push_back(i);
+    if (x.x() < lo.x() + tol) s.left.push_back(i);
+    if (x.x() > hi.x() - tol) s.right.push_back(i);
+    if (bottom && (corner < 0 || x.x() < p.nodes[corner].x())) corner = i;
+  }
+  if (s.top.empty() || s.bottom.empty() || s.left.empty() || s.right.empty() || corner < 0)
+    throw InputError("the lattice specimen has no surface nodes on a side of its rectangle");
+  s.held_x.push_back(corner);
+  return s;
+}
+
+Supports DiscSupports(const PackingLattice& p, const Domain<2>& domain) {
+  Supports s;
+  const Vector<2> centre = domain.CircleCentre();
+  int north = -1, south = -1;
+  for (int i = p.particle_nodes; i < p.node_count(); ++i) {
+    const double y = p.nodes[i].y() - centre.y();
+    if (y > 0.0) s.top.push_back(i);
+    else s.bottom.push_back(i);
+    if (north < 0 || p.nodes[i].y() > p.nodes[north].y()) north = i;
+    if (south < 0 || p.nodes[i].y() < p.nodes[south].y()) south = i;
+  }
+  if (north < 0 || south < 0 || north == south) throw InputError("the lattice disc has no surface nodes");
+  s.held_x = {north, south};
+  return s;
+}
+
+// Area averages of the triangles' stress and strain (Voigt), and the failed counts.
+struct Averages {
+  Eigen::Vector3d stress = Eigen::Vector3d::Zero(), strain = Eigen::Vector3d::Zero();
+};
+
+Eigen::Matrix3d Tensor(const Eigen::Vector3d& voigt, bool engineering_shear) {
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  m(0, 0) = voigt[0];
+  m(1, 1) = voigt[1];
+  m(0, 1) = m(1, 0) = engineering_shear ? 0.5 * voigt[2] : voigt[2];
+  return m;
+}
+
+}  // namespace
+
+bool LatticeMaterial::IsValid(std::string* error) const {
+  if (!elasticity.IsPositiveDefinite()) {
+    *error = "the lattice's elasticity matrix D is not positive definite (check E, nu)";
+    return false;
+  }
+  if (!(density_kg_per_m3 > 0.0 && std::isfinite(density_kg_per_m3))) {
+    *error = "density = " + std::to_string(density_kg_per_m3) + ": must be positive [kg/m^3]";
+    return false;
+  }
+  return strength.IsValid(error);
+}
+
+bool LatticeProtocol::IsValid(std::string* error) const {
+  if (!(platen_zone_share >= 0.0 && platen_zone_share <= 0.3)) {
+    *error = "platen_zone = " + std::to_string(platen_zone_share) + ": must be in [0, 0.3] (share of the diameter)";
+    return false;
+  }
+  return true;
+}
+
+LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial& material,
+                                const LabTestOptions& options, const LatticeProtocol& protocol) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(error);
+  if (!protocol.IsValid(&error)) throw InputError(error);
+  if (!material.IsValid(&error)) throw InputError(error);
+  const bool ucs = options.kind == LabTestKind::kUniaxialCompression;
+  if (!ucs && options.kind != LabTestKind::kBrazilian)
+    throw InputError(std::string("test kind '") + LabTestKindName(options.kind) +
+                     "': the lattice model runs the ucs and brazilian tests");
+  const Domain<2>& domain = packing.domain;
+  if (ucs && domain.shape() != DomainShape::kRectangle)
+    throw InputError("the lattice UCS needs a rectangle specimen, not a " + domain.ShapeName());
+  if (!ucs && domain.shape() != DomainShape::kDisc)
+    throw InputError("the lattice Brazilian test needs a disc specimen, not a " + domain.ShapeName());
+  const auto start = std::chrono::steady_clock::now();
+
+  PackingLatticeSummary lattice_summary;
+  const PackingLattice specimen = BuildPackingLattice(packing, material.elasticity, 1.0, {}, &lattice_summary);
+  const TriangleLattice& lattice = specimen.triangles;
+  const int n = specimen.node_count();
+  const std::vector<double> mass = LumpedMasses(lattice, n, material.density_kg_per_m3);
+  const Supports supports = ucs ? RectangleSupports(specimen, domain) : DiscSupports(specimen, domain);
+  const PlaneElasticity& d = material.elasticity;
+  const double bulk = AreaBulkModulus(d);
+
+  // Geometry and rate.
+  const double height = ucs ? domain.Upper().y() - domain.Lower().y() : 2.0 * domain.CircleRadius();
+  const double width = ucs ? domain.Upper().x() - domain.Lower().x() : 2.0 * domain.CircleRadius();
+  const double wave_speed = std::sqrt(d.d22 / material.density_kg_per_m3);
+  const double speed = options.platen_speed_m_per_s > 0.0 ? options.platen_speed_m_per_s
+                                                          : options.loading_rate_group * wave_speed;
+  const double transit = height / wave_speed;
+  const double ramp = options.velocity_ramp_transits * transit;
+  const double strain_limit = options.strain_limit > 0.0 ? options.strain_limit : 0.02;
+  // Brazilian platens: a penalty of E' s per contacting node (compression only).
+  const double platen_stiffness = d.d22;
+
+  // Time step: the lattice's certified limit, with the platen penalty added by Weyl's
+  // inequality (lambda_max(A + B) <= lambda_max(A) + lambda_max(B)).
+  LanczosOptions lanczos;
+  lanczos.num_threads = options.num_threads;
+  const LatticeStability stability = AnalyseLatticeStability(lattice, mass, lanczos);
+  double omega_squared = stability.omega_max_squared;
+  if (!ucs) {
+    double lightest = std::numeric_limits<double>::infinity();
+    for (int i = specimen.particle_nodes; i < n; ++i)
+      if (mass[i] > 0.0) lightest = std::min(lightest, mass[i]);
+    omega_squared += platen_stiffness / lightest;
+  }
+  const double critical = 2.0 / std::sqrt(omega_squared);
+  const double dt = options.time_step_safety_factor * critical;
+
+  LabTestResult result;
+  result.dimension = 2;
+  result.kind = options.kind;
+  result.domain = domain.ToText();
+  result.particles = packing.size();
+  result.bonds = lattice.size();
+  result.porosity = NominalPorosity<2>(domain, packing.radii);
+  result.mean_radius_m = VolumeMeanRadius<2>(packing.radii);
+  result.density_used_kg_per_m3 = material.density_kg_per_m3;
+  result.height_m = height;
+  result.width_m = width;
+  result.loading_rate_group = speed / wave_speed;
+  result.platen_speed_m_per_s = speed;
+  result.strain_rate_per_s = 2.0 * speed / height;
+  result.time_step_s = dt;
+  result.critical_time_step_s = critical;
+  result.strain_limit = strain_limit;
+  result.stages = {"lattice_forces", "triangle_failure", ucs ? "glued_platens" : "penalty_platens", "local_damping",
+                   "central_differences"};
+
+  std::vector<char> prescribed_y(n, 0), held_x(n, 0);
+  if (ucs) {
+    for (int i : supports.top) prescribed_y[i] = 1;
+    for (int i : supports.bottom) prescribed_y[i] = 1;
+  }
+  for (int i : supports.held_x) held_x[i] = 1;
+
+  std::vector<Vector<2>> u(n, Vector<2>::Zero()), v(n, Vector<2>::Zero()), f(n);
+  std::vector<TriangleFailure> failure(lattice.size(), TriangleFailure::kIntact);
+  // Brazilian: the triangles within the platen zones stay elastic (header comment).
+  std::vector<char> breakable(lattice.size(), 1);
+  if (!ucs) {
+    const double zone = protocol.platen_zone_share * 2.0 * domain.CircleRadius();
+    const Vector<2> c = domain.CircleCentre();
+    const Vector<2> north(c.x(), c.y() + domain.CircleRadius()), south(c.x(), c.y() - domain.CircleRadius());
+    for (int k = 0; k < lattice.size(); ++k)
+      for (int i : lattice.nodes[k])
+        if ((specimen.nodes[i] - north).norm() < zone || (specimen.nodes[i] - south).norm() < zone) breakable[k] = 0;
+  }
+  std::vector<Eigen::Vector3d> stress(lattice.size(), Eigen::Vector3d::Zero());
+  double travel = 0.0;  // of each platen
+  long broken_tension = 0, broken_shear = 0;
+  const double alpha = options.local_damping;
+  const double centre_y = ucs ? 0.0 : domain.CircleCentre().y();
+  const double radius = ucs ? 0.0 : domain.CircleRadius();
+  double peak = 0.0;
+  int peak_index = -1;
+
+  const long max_steps =
+      static_cast<long>(std::ceil((strain_limit * height / 2.0 + speed * ramp) / (speed * dt))) + 10;
+  long step = 0;
+  for (; step < max_steps; ++step) {
+    const double t = step * dt;
+    travel += dt * speed * std::min(1.0, ramp > 0.0 ? t / ramp : 1.0);
+    std::fill(f.begin(), f.end(), Vector<2>::Zero());
+    // Triangles: the natural law while intact, the pressure after failure.
+    for (int k = 0; k < lattice.size(); ++k) {
+      if (failure[k] != TriangleFailure::kIntact) {
+        stress[k] = AddFailedTriangleForces(lattice, k, bulk, u, &f);
+        continue;
+      }
+      const std::array<int, 3>& nodes = lattice.nodes[k];
+      std::array<Vector<2>, 3> direction;
+      const Eigen::Vector3d h = EdgeStretches(lattice, k, u, &direction);
+      const Eigen::Vector3d edge_force = lattice.stiffness[k] * h;
+      Eigen::Vector3d s = Eigen::Vector3d::Zero();
+      for (int e = 0; e < 3; ++e) {
+        const Vector<2> pull = edge_force[e] * direction[e];
+        f[nodes[e]] += pull;
+        f[nodes[(e + 1) % 3]] -= pull;
+        const double length = lattice.rest_lengths[k][e] + h[e];
+        s += edge_force[e] * length *
+             Eigen::Vector3d(direction[e].x() * direction[e].x(), direction[e].y() * direction[e].y(),
+                             direction[e].x() * direction[e].y());
+      }
+      stress[k] = s / (lattice.areas[k] * lattice.thickness_m);
+      // Failure applies from the next step (the forces of this one are already summed).
+      if (!breakable[k]) continue;
+      failure[k] = FailureOf(stress[k], material.strength);
+      if (failure[k] == TriangleFailure::kTension) ++broken_tension;
+      if (failure[k] == TriangleFailure::kShear) ++broken_shear;
+    }
+    // Platens.
+    double force_top = 0.0, force_bottom = 0.0;
+    if (ucs) {
+      for (int i : supports.top) force_top += f[i].y();
+      for (int i : supports.bottom) force_bottom -= f[i].y();
+    } else {
+      const double top = centre_y + radius - travel, bottom = centre_y - radius + travel;
+      for (int i : supports.top) {
+        const double y = specimen.nodes[i].y() + u[i].y();
+        if (y > top) {
+          f[i].y() -= platen_stiffness * (y - top);
+          force_top += platen_stiffness * (y - top);
+        }
+      }
+      for (int i : supports.bottom) {
+        const double y = specimen.nodes[i].y() + u[i].y();
+        if (y < bottom) {
+          f[i].y() += platen_stiffness * (bottom - y);
+          force_bottom += platen_stiffness * (bottom - y);
+        }
+      }
+    }
+    // Damped central differences (local damping: alpha |F| against the velocity).
+    for (int i = 0; i < n; ++i) {
+      if (!(mass[i] > 0.0)) continue;
+      for (int a = 0; a < 2; ++a) {
+        if ((a == 0 && held_x[i]) || (a == 1 && prescribed_y[i])) continue;
+        const double damped = f[i][a] - alpha * std::abs(f[i][a]) * (v[i][a] > 0.0 ? 1.0 : v[i][a] < 0.0 ? -1.0 : 0.0);
+        v[i][a] += dt * damped / mass[i];
+        u[i][a] += dt * v[i][a];
+      }
+    }
+    if (ucs) {
+      for (int i : supports.top) u[i].y() = -travel;
+      for (int i : supports.bottom) u[i].y() = travel;
+    }
+    if (!std::isfinite(force_top + force_bottom))
+      throw ComputationError("the lattice test diverged at step " + std::to_string(step) + " (platen force not finite)");
+
+    const bool sample = step % options.sample_interval_steps == 0;
+    if (!sample) continue;
+    LabCurvePoint point;
+    point.step = step;
+    point.time_s = t;
+    Averages mean;
+    double area = 0.0;
+    for (int k = 0; k < lattice.size(); ++k) {
+      mean.stress += lattice.areas[k] * stress[k];
+      mean.strain += lattice.areas[k] * TriangleStrain(lattice, k, u);
+      area += lattice.areas[k];
+    }
+    mean.stress /= area;
+    mean.strain /= area;
+    point.stress_pa = Tensor(mean.stress, false);
+    point.strain = Tensor(mean.strain, true);
+    point.volume_m3 = area * lattice.thickness_m;
+    point.boundary_strain = 2.0 * travel / height;
+    point.platen_force_n = 0.5 * (force_top + force_bottom);
+    point.axial_stress_pa = -mean.stress[1];
+    point.lateral_stress_pa = -mean.stress[0];
+    point.control = ucs ? point.platen_force_n / width : point.platen_force_n;
+    point.broken_in_tension = broken_tension;
+    point.broken_in_shear = broken_shear;
+    double kinetic = 0.0;
+    for (int i = 0; i < n; ++i) kinetic += 0.5 * mass[i] * v[i].squaredNorm();
+    point.kinetic_energy_j = kinetic;
+    result.curve.push_back(point);
+    if (point.control > peak) peak = point.control, peak_index = static_cast<int>(result.curve.size()) - 1;
+    // Past the ramp: stop once the control has fallen far enough below its peak.
+    if (t > ramp && peak_index >= 3 && point.control <= options.post_peak_stress_fraction * peak) {
+      result.termination = LabTermination::kPostPeak;
+      break;
+    }
+    if (options.progress && result.curve.size() % 20 == 0)
+      options.progress(std::min(1.0, point.boundary_strain / strain_limit),
+                       "lattice " + std::string(LabTestKindName(options.kind)) + ": strain " +
+                           std::to_string(point.boundary_strain));
+  }
+  result.steps = step;
+  result.simulated_time_s = step * dt;
+  result.broken_in_tension = broken_tension;
+  result.broken_in_shear = broken_shear;
+  const CurvePeak found = FindPeak(result.curve, options.post_peak_stress_fraction);
+  result.peak_reached = found.confirmed;
+  std::ostringstream message;
+  if (result.termination == LabTermination::kPostPeak) {
+    message << "the control fell to " << options.post_peak_stress_fraction << " of its peak";
+  } else {
+    message << "strain limit " << strain_limit << " reached" << (found.confirmed ? "" : " without a peak");
+  }
+  result.termination_message = message.str();
+  if (found.index >= 0) {
+    const LabCurvePoint& at = result.curve[found.index];
+    result.peak_control = at.control;
+    result.peak_force_n = at.platen_force_n;
+    result.strain_at_peak = -at.strain(1, 1);
+    result.boundary_strain_at_peak = at.boundary_strain;
+    if (ucs) {
+      result.peak_stress_pa = at.control;
+      result.elastic = SecantElasticConstants<2>(result.curve, found, 1, options.modulus_window_low,
+                                                 options.modulus_window_high);
+      result.linear_elastic = LinearPortionElasticConstants<2>(result.curve, 1, options.linear_portion_low);
+    } else {
+      result.tensile_strength_pa = 2.0 * at.platen_force_n / (kPi * height * lattice.thickness_m);
+      result.peak_stress_pa = result.tensile_strength_pa;
+    }
+  }
+  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace specimen
