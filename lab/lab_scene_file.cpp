@@ -172,9 +172,79 @@ void ReadSpecimen(const toml::table* table, const std::string& source, LabScene*
   }
 }
 
-void ReadMaterial(const toml::table* table, const std::string& source, MaterialParameters* m) {
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+
+// [material] of a lattice scene (model = "lattice"): isotropic E, nu or orthotropic constants,
+// the plane model, the fracture strengths and the density.
+void ReadLatticeMaterial(TableReader& t, LatticeMaterial* m) {
+  auto required = [&](const std::string& key, double* value) {
+    if (!t.Number(key, value)) throw InputError(t.where() + ": '" + key + "' is missing (model = \"lattice\")");
+  };
+  PlaneModel plane = PlaneModel::kPlaneStrain;
+  std::string plane_name;
+  if (t.String("plane_model", &plane_name)) {
+    if (plane_name == "plane_strain")
+      plane = PlaneModel::kPlaneStrain;
+    else if (plane_name == "plane_stress")
+      plane = PlaneModel::kPlaneStress;
+    else
+      throw InputError(t.where() + ": plane_model = '" + plane_name +
+                       "' is not allowed: use plane_strain or plane_stress");
+  }
+  double e = 0.0, nu = 0.0;
+  const bool isotropic = t.Number("youngs_modulus", &e);
+  const bool has_nu = t.Number("poisson_ratio", &nu);
+  OrthotropicConstants o;
+  double angle_deg = 0.0;
+  const bool orthotropic = t.Number("youngs_modulus_1", &o.youngs_modulus_1_pa);
+  if (isotropic == orthotropic)
+    throw InputError(t.where() + ": give either youngs_modulus and poisson_ratio (isotropic) or youngs_modulus_1, "
+                     "youngs_modulus_2, poisson_ratio_12, shear_modulus_12 (orthotropic)");
+  if (isotropic) {
+    if (!has_nu) throw InputError(t.where() + ": 'poisson_ratio' is missing (model = \"lattice\")");
+    try {
+      m->elasticity = IsotropicPlaneElasticity(e, nu, plane);
+    } catch (const InputError& error) {
+      throw InputError(t.where() + ": " + error.what());
+    }
+  } else {
+    if (has_nu) throw InputError(t.where() + ": 'poisson_ratio' is for an isotropic lattice: use poisson_ratio_12");
+    required("youngs_modulus_2", &o.youngs_modulus_2_pa);
+    required("poisson_ratio_12", &o.poisson_ratio_12);
+    required("shear_modulus_12", &o.shear_modulus_12_pa);
+    t.Number("axis_angle", &angle_deg);
+    t.Number("youngs_modulus_3", &o.youngs_modulus_3_pa);
+    t.Number("poisson_ratio_13", &o.poisson_ratio_13);
+    t.Number("poisson_ratio_23", &o.poisson_ratio_23);
+    if (!(std::abs(angle_deg) <= 360.0))
+      throw InputError(t.where() + ": axis_angle = " + std::to_string(angle_deg) + ": must be in [-360, 360] degrees");
+    o.axis_angle_rad = angle_deg * kDegree;
+    std::string error;
+    if (!o.IsValid(plane, &error)) throw InputError(t.where() + ": " + error);
+    m->elasticity = OrthotropicPlaneElasticity(o, plane);
+  }
+  required("tensile_strength", &m->strength.tensile_strength_pa);
+  required("cohesion", &m->strength.cohesion_pa);
+  t.Number("friction_angle", &m->strength.friction_angle_deg);
+  required("density", &m->density_kg_per_m3);
+  t.Finish();
+  std::string error;
+  if (!m->IsValid(&error)) throw InputError(t.where() + ": " + error);
+}
+
+void ReadMaterial(const toml::table* table, const std::string& source, LabScene* scene) {
   if (!table) throw InputError(source + ": the [material] table is missing");
   TableReader t(table, source + " [material]");
+  std::string model = "bonded";
+  t.String("model", &model);
+  if (model == "lattice") {
+    scene->lattice = true;
+    ReadLatticeMaterial(t, &scene->lattice_material);
+    return;
+  }
+  if (model != "bonded")
+    throw InputError(t.where() + ": model = '" + model + "' is not allowed: use bonded (the default) or lattice");
+  MaterialParameters* m = &scene->material;
   auto required = [&](const std::string& key, double* value) {
     if (!t.Number(key, value)) throw InputError(t.where() + ": '" + key + "' is missing");
   };
@@ -252,7 +322,9 @@ void ReadTest(const toml::table* table, const std::string& source, LabScene* sce
   t.Number("consolidation_tolerance", &o.consolidation_tolerance);
   t.Number("platen_stiffness_ratio", &o.platen_stiffness_ratio);
   t.Number("platen_friction", &o.platen_friction);
-  t.Number("local_damping", &o.local_damping);
+  scene->platen_zone_given = t.Number("platen_zone", &scene->lattice_protocol.platen_zone_share);
+  // A lattice scene keeps LatticeProtocol's own default unless the key is given.
+  if (t.Number("local_damping", &o.local_damping)) scene->lattice_protocol.local_damping = o.local_damping;
   t.Number("dashpot_ratio", &o.dashpot_ratio);
   t.Number("mass_scaling", &o.mass_scaling_budget);
   t.Number("safety_factor", &o.time_step_safety_factor);
@@ -310,8 +382,32 @@ LabScene ParseLabScene(const std::string& toml_text, const std::string& source) 
   scene.output.name = std::filesystem::path(source).stem().string();
   ReadTest(root["test"].as_table(), source, &scene);  // first: the shape check needs the kind
   ReadSpecimen(root["specimen"].as_table(), source, &scene);
-  ReadMaterial(root["material"].as_table(), source, &scene.material);
+  ReadMaterial(root["material"].as_table(), source, &scene);
   ReadOutput(root["output"].as_table(), source, &scene.output);
+  if (scene.lattice) {
+    if (scene.test.kind != LabTestKind::kUniaxialCompression && scene.test.kind != LabTestKind::kBrazilian)
+      throw InputError(source + " [test]: kind = '" + LabTestKindName(scene.test.kind) +
+                       "': the lattice model runs the ucs and brazilian tests");
+    if (scene.dimension == 3) throw InputError(source + ": the lattice model is 2D; the specimen is 3D");
+    if (scene.test.scale_density)
+      throw InputError(source + " [specimen]: scale_density is for bonded particles; a lattice fills the specimen "
+                       "and takes the solid's density as it is");
+    // Settings of the bonded tests that the lattice tests do not use: refused, not ignored.
+    static const std::set<std::string> bonded_only = {
+        "pause_kinetic_energy_ratio", "max_pause_transits", "pause_on_breakage", "pause_ramp_transits",
+        "strain_boundary_margin", "confining_stress", "confining_stresses", "servo_gain_fraction",
+        "servo_integral_transits", "consolidation_tolerance", "platen_stiffness_ratio", "platen_friction",
+        "dashpot_ratio", "mass_scaling", "quasi_static_check", "quasi_static_tolerance"};
+    if (const toml::table* test = root["test"].as_table())
+      for (const auto& [key, value] : *test) {
+        (void)value;
+        if (bonded_only.count(std::string(key.str())))
+          throw InputError(source + " [test]: '" + std::string(key.str()) +
+                           "' is a setting of the bonded tests; the lattice model does not use it");
+      }
+  } else if (scene.platen_zone_given) {
+    throw InputError(source + " [test]: 'platen_zone' is for model = \"lattice\" ([material])");
+  }
   return scene;
 }
 

@@ -22,6 +22,14 @@
 //   particle_poisson_ratio = 0.25     # nu_p
 //   plane_model = "plane_strain"      # 2D DDEM: plane_strain | plane_stress
 //
+//   # or the six-spring lattice (2D; ucs and brazilian):
+//   # model = "lattice"
+//   # youngs_modulus = 30e9, poisson_ratio = 0.25  (or youngs_modulus_1, youngs_modulus_2,
+//   #   poisson_ratio_12, shear_modulus_12, axis_angle [deg]; plane strain also
+//   #   youngs_modulus_3, poisson_ratio_13, poisson_ratio_23)
+//   # tensile_strength = 8e6, cohesion = 25e6, friction_angle = 30 [deg], density = 2650
+//   # plane_model = "plane_strain"
+//
 //   [test]
 //   kind = "ucs"                      # ucs | brazilian | biaxial | isotropic | shear
 //   loading_rate_group = 5e-5         # V / sqrt(kn/rho) (3D: V / sqrt(kn/(rho r_mean)))
@@ -36,7 +44,8 @@
 //   velocity_ramp_transits, pause_kinetic_energy_ratio, max_pause_transits, sample_interval,
 //   strain_boundary_margin, linear_portion_low, servo_gain_fraction, servo_integral_transits,
 //   consolidation_tolerance, platen_stiffness_ratio, platen_friction, local_damping,
-//   dashpot_ratio, mass_scaling (mass_scaling_budget), quasi_static_tolerance, threads
+//   dashpot_ratio, mass_scaling (mass_scaling_budget), quasi_static_tolerance, threads;
+//   lattice Brazilian: platen_zone (LatticeProtocol::platen_zone_share)
 //
 //   [output]
 //   name = "ucs_2d"                   # file name prefix (default: the scene file's name)
@@ -49,6 +58,7 @@
 
 #include "lab/lab_outputs.h"
 #include "lab/lab_test.h"
+#include "lab/lattice_lab_test.h"
 #include "solver/material.h"
 
 namespace specimen {
@@ -62,7 +72,12 @@ struct LabScene {
   double mean_radius_m = 0.0;
   std::uint64_t seed = 1;
   int dimension = 0;  // from the domain, or 0 until the packing's header is read
-  MaterialParameters material;
+  MaterialParameters material;  // model = "bonded" (the default)
+  // model = "lattice": the six-spring lattice of the packing (lab/lattice_lab_test.h).
+  bool lattice = false;
+  LatticeMaterial lattice_material;
+  LatticeProtocol lattice_protocol;
+  bool platen_zone_given = false;
   LabTestOptions test;
   std::vector<double> confining_stresses_pa;  // biaxial envelope when not empty
   LabOutputOptions output;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "common/error.h"
@@ -70,6 +71,55 @@ Eigen::Matrix3d Tensor(const Eigen::Vector3d& voigt, bool engineering_shear) {
   return m;
 }
 
+// The edges between two particle nodes with the triangles on each side, for the snapshots.
+struct EdgeMap {
+  std::vector<std::array<int, 2>> edges;
+  std::vector<std::array<int, 2>> triangles;  // -1: none
+};
+
+EdgeMap ParticleEdges(const PackingLattice& p) {
+  std::map<std::pair<int, int>, std::array<int, 2>> found;
+  const TriangleLattice& lattice = p.triangles;
+  for (int k = 0; k < lattice.size(); ++k)
+    for (int e = 0; e < 3; ++e) {
+      const int a = lattice.nodes[k][e], b = lattice.nodes[k][(e + 1) % 3];
+      if (a >= p.particle_nodes || b >= p.particle_nodes) continue;
+      auto [it, inserted] = found.try_emplace(std::minmax(a, b), std::array<int, 2>{k, -1});
+      if (!inserted) it->second[1] = k;
+    }
+  EdgeMap map;
+  for (const auto& [edge, sides] : found) {
+    map.edges.push_back({edge.first, edge.second});
+    map.triangles.push_back(sides);
+  }
+  return map;
+}
+
+// The particle nodes and their edges at one moment: an edge is broken as the first failed
+// triangle beside it failed (shear before tension when both sides failed differently).
+LabSnapshot Snapshot(const std::string& label, double time_s, const PackingLattice& p, const EdgeMap& edges,
+                     const std::vector<Vector<2>>& u, const std::vector<TriangleFailure>& failure) {
+  LabSnapshot s;
+  s.recorded = true;
+  s.label = label;
+  s.time_s = time_s;
+  for (int i = 0; i < p.particle_nodes; ++i) {
+    s.position.emplace_back(p.nodes[i].x() + u[i].x(), p.nodes[i].y() + u[i].y(), 0.0);
+    s.displacement.emplace_back(u[i].x(), u[i].y(), 0.0);
+  }
+  s.bonds = edges.edges;
+  for (const auto& sides : edges.triangles) {
+    ContactState state = ContactState::kBonded;
+    for (int k : sides) {
+      if (k < 0) continue;
+      if (failure[k] == TriangleFailure::kShear) state = ContactState::kBrokenInShear;
+      if (failure[k] == TriangleFailure::kTension && state == ContactState::kBonded) state = ContactState::kBrokenInTension;
+    }
+    s.bond_state.push_back(state);
+  }
+  return s;
+}
+
 }  // namespace
 
 bool LatticeMaterial::IsValid(std::string* error) const {
@@ -87,6 +137,10 @@ bool LatticeMaterial::IsValid(std::string* error) const {
 bool LatticeProtocol::IsValid(std::string* error) const {
   if (!(platen_zone_share >= 0.0 && platen_zone_share <= 0.3)) {
     *error = "platen_zone = " + std::to_string(platen_zone_share) + ": must be in [0, 0.3] (share of the diameter)";
+    return false;
+  }
+  if (!(local_damping >= 0.0 && local_damping < 1.0)) {
+    *error = "local_damping = " + std::to_string(local_damping) + ": must be in [0, 1)";
     return false;
   }
   return true;
@@ -187,23 +241,36 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
   std::vector<Eigen::Vector3d> stress(lattice.size(), Eigen::Vector3d::Zero());
   double travel = 0.0;  // of each platen
   long broken_tension = 0, broken_shear = 0;
-  const double alpha = options.local_damping;
-  const double centre_y = ucs ? 0.0 : domain.CircleCentre().y();
-  const double radius = ucs ? 0.0 : domain.CircleRadius();
+  const double alpha = protocol.local_damping;
+  // Brazilian platens start at the extreme surface nodes (the bonded tests place their walls
+  // at the extreme particles), so both touch from the start.
+  double platen_top0 = 0.0, platen_bottom0 = 0.0;
+  if (!ucs) {
+    platen_top0 = specimen.nodes[supports.held_x[0]].y();
+    platen_bottom0 = specimen.nodes[supports.held_x[1]].y();
+  }
   double peak = 0.0;
   int peak_index = -1;
 
+  const EdgeMap edges = options.record_snapshots ? ParticleEdges(specimen) : EdgeMap{};
   const long max_steps =
       static_cast<long>(std::ceil((strain_limit * height / 2.0 + speed * ramp) / (speed * dt))) + 10;
+  // The energy audit: triangles' V sigma:eps / 2 (particle_elastic), the Brazilian platens'
+  // penalty (contact_elastic), the platens' work, local damping, and the energy of each
+  // triangle at the step it failed (breakage_release).
+  EnergyBalance audit;
   long step = 0;
   for (; step < max_steps; ++step) {
     const double t = step * dt;
-    travel += dt * speed * std::min(1.0, ramp > 0.0 ? t / ramp : 1.0);
+    const double advance = dt * speed * std::min(1.0, ramp > 0.0 ? t / ramp : 1.0);
+    travel += advance;
     std::fill(f.begin(), f.end(), Vector<2>::Zero());
+    double elastic = 0.0, platen_elastic = 0.0;
     // Triangles: the natural law while intact, the pressure after failure.
     for (int k = 0; k < lattice.size(); ++k) {
       if (failure[k] != TriangleFailure::kIntact) {
         stress[k] = AddFailedTriangleForces(lattice, k, bulk, u, &f);
+        elastic += 0.5 * stress[k][0] * stress[k][0] / bulk * lattice.areas[k] * lattice.thickness_m;
         continue;
       }
       const std::array<int, 3>& nodes = lattice.nodes[k];
@@ -221,9 +288,18 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
                              direction[e].x() * direction[e].y());
       }
       stress[k] = s / (lattice.areas[k] * lattice.thickness_m);
+      const double energy = 0.5 * h.dot(edge_force);
+      elastic += energy;
       // Failure applies from the next step (the forces of this one are already summed).
       if (!breakable[k]) continue;
       failure[k] = FailureOf(stress[k], material.strength);
+      if (failure[k] != TriangleFailure::kIntact) {
+        // Released: the energy it held less what its pressure keeps at the same strain.
+        const Eigen::Vector3d strain = TriangleStrain(lattice, k, u);
+        const double compaction = std::min(0.0, strain[0] + strain[1]);
+        audit.breakage_release_j +=
+            energy - 0.5 * bulk * compaction * compaction * lattice.areas[k] * lattice.thickness_m;
+      }
       if (failure[k] == TriangleFailure::kTension) ++broken_tension;
       if (failure[k] == TriangleFailure::kShear) ++broken_shear;
     }
@@ -233,12 +309,13 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
       for (int i : supports.top) force_top += f[i].y();
       for (int i : supports.bottom) force_bottom -= f[i].y();
     } else {
-      const double top = centre_y + radius - travel, bottom = centre_y - radius + travel;
+      const double top = platen_top0 - travel, bottom = platen_bottom0 + travel;
       for (int i : supports.top) {
         const double y = specimen.nodes[i].y() + u[i].y();
         if (y > top) {
           f[i].y() -= platen_stiffness * (y - top);
           force_top += platen_stiffness * (y - top);
+          platen_elastic += 0.5 * platen_stiffness * (y - top) * (y - top);
         }
       }
       for (int i : supports.bottom) {
@@ -246,6 +323,7 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
         if (y < bottom) {
           f[i].y() += platen_stiffness * (bottom - y);
           force_bottom += platen_stiffness * (bottom - y);
+          platen_elastic += 0.5 * platen_stiffness * (bottom - y) * (bottom - y);
         }
       }
     }
@@ -254,15 +332,21 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
       if (!(mass[i] > 0.0)) continue;
       for (int a = 0; a < 2; ++a) {
         if ((a == 0 && held_x[i]) || (a == 1 && prescribed_y[i])) continue;
-        const double damped = f[i][a] - alpha * std::abs(f[i][a]) * (v[i][a] > 0.0 ? 1.0 : v[i][a] < 0.0 ? -1.0 : 0.0);
-        v[i][a] += dt * damped / mass[i];
+        const double drag = alpha * std::abs(f[i][a]) * (v[i][a] > 0.0 ? 1.0 : v[i][a] < 0.0 ? -1.0 : 0.0);
+        const double before = v[i][a];
+        v[i][a] += dt * (f[i][a] - drag) / mass[i];
         u[i][a] += dt * v[i][a];
+        audit.damping_dissipation_j += drag * 0.5 * (before + v[i][a]) * dt;
       }
     }
     if (ucs) {
       for (int i : supports.top) u[i].y() = -travel;
       for (int i : supports.bottom) u[i].y() = travel;
     }
+    // The platens' work on the specimen: their compressive reactions over this step's advance.
+    audit.wall_work_j += (force_top + force_bottom) * advance;
+    audit.particle_elastic_j = elastic;
+    audit.contact_elastic_j = platen_elastic;
     if (!std::isfinite(force_top + force_bottom))
       throw ComputationError("the lattice test diverged at step " + std::to_string(step) + " (platen force not finite)");
 
@@ -293,10 +377,19 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
     double kinetic = 0.0;
     for (int i = 0; i < n; ++i) kinetic += 0.5 * mass[i] * v[i].squaredNorm();
     point.kinetic_energy_j = kinetic;
+    audit.kinetic_j = kinetic;
+    point.elastic_energy_j = audit.Elastic();
+    point.external_work_j = audit.ExternalWork();
+    point.dissipated_j = audit.Dissipated();
     result.curve.push_back(point);
-    if (point.control > peak) peak = point.control, peak_index = static_cast<int>(result.curve.size()) - 1;
+    // The peak after the ramp (the first contact of the platens rings during it).
+    if (t > ramp && point.control > peak) {
+      peak = point.control;
+      peak_index = static_cast<int>(result.curve.size()) - 1;
+      if (options.record_snapshots) result.peak_snapshot = Snapshot("peak", t, specimen, edges, u, failure);
+    }
     // Past the ramp: stop once the control has fallen far enough below its peak.
-    if (t > ramp && peak_index >= 3 && point.control <= options.post_peak_stress_fraction * peak) {
+    if (peak_index >= 3 && point.control <= options.post_peak_stress_fraction * peak) {
       result.termination = LabTermination::kPostPeak;
       break;
     }
@@ -307,9 +400,22 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
   }
   result.steps = step;
   result.simulated_time_s = step * dt;
+  if (options.record_snapshots) result.end_snapshot = Snapshot("end", step * dt, specimen, edges, u, failure);
   result.broken_in_tension = broken_tension;
   result.broken_in_shear = broken_shear;
-  const CurvePeak found = FindPeak(result.curve, options.post_peak_stress_fraction);
+  {
+    double kinetic = 0.0;
+    for (int i = 0; i < n; ++i) kinetic += 0.5 * mass[i] * v[i].squaredNorm();
+    audit.kinetic_j = kinetic;
+  }
+  result.energy = audit;
+  // The peak after the ramp (FindPeak over the whole curve would take the ringing of the
+  // first contact for it).
+  CurvePeak found;
+  found.index = peak_index;
+  found.control = peak;
+  for (int k = peak_index + 1; peak_index >= 0 && k < static_cast<int>(result.curve.size()); ++k)
+    found.confirmed |= result.curve[k].control <= options.post_peak_stress_fraction * peak;
   result.peak_reached = found.confirmed;
   std::ostringstream message;
   if (result.termination == LabTermination::kPostPeak) {

@@ -7,6 +7,7 @@
 //   run-test data/scenes/example_bts_2d.toml --output out/bts --no-quasi-static-check
 //   run-test data/scenes/example_biaxial_2d.toml --output out/biaxial --quiet
 //   run-test data/scenes/example_ucs_3d.toml --threads 2 --name cylinder
+//   run-test data/scenes/example_lattice_ucs_2d.toml --output out/lattice   # six-spring lattice
 //
 // The scene (lab/lab_scene_file.h) names a packing file or a domain to generate, the
 // material, the test and its options. Everything is checked before any work (a bad value,
@@ -28,6 +29,7 @@
 #include "lab/lab_envelope.h"
 #include "lab/lab_outputs.h"
 #include "lab/lab_scene_file.h"
+#include "lab/lattice_lab_test.h"
 #include "lab/lab_specimen.h"
 #include "specimen_version.h"
 #include "tools/command_line.h"
@@ -80,6 +82,7 @@ int Run(LabScene scene, const CommandLine& cl) {
 
   // 2. The specimen, checked against the test before the run; then the output location.
   const Packing<Dim> packing = SceneSpecimen<Dim>(scene, cl.quiet);
+  if (scene.lattice && Dim != 2) throw InputError(scene.source + ": the lattice model is 2D; the specimen is 3D");
   DescribeSpecimen<Dim>(packing, scene.test.kind, scene.test.strain_boundary_margin);
   CheckLabOutputLocation(scene.output);
 
@@ -106,7 +109,14 @@ int Run(LabScene scene, const CommandLine& cl) {
         missing_message = t.termination_message;
       }
   } else {
-    const LabTestResult result = RunLabTest<Dim>(packing, scene.material, scene.test);
+    LabTestResult result;
+    if constexpr (Dim == 2) {
+      result = scene.lattice ? RunLatticeLabTest(packing, scene.lattice_material, scene.test, scene.lattice_protocol)
+                             : RunLabTest<Dim>(packing, scene.material, scene.test);
+    } else {
+      if (scene.lattice) throw InputError(scene.source + ": the lattice model is 2D; the specimen is 3D");
+      result = RunLabTest<Dim>(packing, scene.material, scene.test);
+    }
     progress.Finish();
     written = WriteLabOutputs<Dim>(result, packing, report, scene.output);
     std::cout << result.FullReport() << "\n" << result.BriefReport() << "\n";

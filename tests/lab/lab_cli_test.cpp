@@ -207,3 +207,66 @@ TEST_F(RunTestCommand, NoPeakIsAComputationFailure) {
 }
 
 }  // namespace
+
+namespace {
+
+// A lattice scene on the suite's packing (model = "lattice", [material] lines given).
+fs::path LatticeScene(const fs::path& dir, const std::string& packing, const std::string& material,
+                      const std::string& test) {
+  const fs::path path = dir / "lattice.toml";
+  std::ofstream(path) << "[specimen]\npacking = \"" << packing << "\"\n[material]\nmodel = \"lattice\"\n"
+                      << material << "[test]\n" << test << "[output]\nname = \"l\"\n";
+  return path;
+}
+
+const char* kLatticeMaterial =
+    "youngs_modulus = 30e9\npoisson_ratio = 0.25\ntensile_strength = 8e6\ncohesion = 25e6\ndensity = 2650\n";
+
+}  // namespace
+
+TEST_F(RunTestCommand, LatticeUcsWritesTheReportAndFiles) {
+  const fs::path dir = Scratch("lattice");
+  const fs::path out = dir / "out";
+  const Result r = RunTest(LatticeScene(dir, packing_, kLatticeMaterial, "kind = \"ucs\"\n").string() +
+                           " --output " + out.string() + " --no-pictures");
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* file : {"l_curve.csv", "l_summary.json", "l_peak.vtu", "l_end.vtu"})
+    EXPECT_TRUE(fs::exists(out / file)) << file;
+  std::ifstream in(out / "l_summary.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_TRUE(j["result"]["peak_reached"].get<bool>());
+  // E and nu are inputs of the lattice (300 discs: a few per cent of dynamics).
+  EXPECT_NEAR(j["result"]["linear_elastic"]["youngs_modulus_pa"].get<double>() / 30e9, 1.0, 0.03);
+  EXPECT_NEAR(j["result"]["linear_elastic"]["poisson_ratio"].get<double>(), 0.25, 0.01);
+}
+
+TEST_F(RunTestCommand, LatticeBadInputWritesNothing) {
+  const struct {
+    std::string material, test, words;
+  } cases[] = {
+      {kLatticeMaterial, "kind = \"biaxial\"\nconfining_stress = 1e6\n", "ucs and brazilian"},
+      {kLatticeMaterial, "kind = \"ucs\"\npause_on_breakage = false\n", "pause_on_breakage"},
+      {kLatticeMaterial, "kind = \"ucs\"\nplaten_zone = 0.5\n", "platen_zone"},
+      {"youngs_modulus = 30e9\npoisson_ratio = 0.25\ntensile_strength = 8e6\ndensity = 2650\n", "kind = \"ucs\"\n",
+       "cohesion"},
+      {"youngs_modulus = 30e9\npoisson_ratio = 0.6\ntensile_strength = 8e6\ncohesion = 25e6\ndensity = 2650\n",
+       "kind = \"ucs\"\n", "poisson_ratio"},
+      {std::string(kLatticeMaterial) + "normal_stiffness = 1e10\n", "kind = \"ucs\"\n", "normal_stiffness"},
+      {std::string(kLatticeMaterial) + "youngs_modulus_1 = 1e10\n", "kind = \"ucs\"\n", "either"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.test + c.material);
+    const fs::path dir = Scratch("lattice_bad");
+    const Result r =
+        RunTest(LatticeScene(dir, packing_, c.material, c.test).string() + " --output " + (dir / "out").string());
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find(c.words), std::string::npos) << r.output;
+    EXPECT_TRUE(MissingOrEmpty(dir / "out"));
+  }
+  // platen_zone belongs to the lattice: refused with bonded particles.
+  const fs::path dir = Scratch("lattice_zone");
+  const Result r = RunTest(Scene(dir, "kind = \"ucs\"\nplaten_zone = 0.1\n").string() + " --output " +
+                           (dir / "out").string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("platen_zone"), std::string::npos) << r.output;
+}
