@@ -9,6 +9,8 @@
 //   stability-limit --packing out/packing.packing --parameters params.toml --sweep nu_p
 //   stability-limit --packing out/packing.packing --kn 7e10 --density 2000 --walls bottom,top
 //                   --wall-stiffness 7e11 --damping 0.1 --output out --name ucs
+//   stability-limit --packing out/packing.packing --lattice-E 40e9 --lattice-nu 0.25 --density 2650
+//                   --dt 2e-8   (the six-spring lattice of a 2D packing)
 // (one command per sample, continued on the indented line).
 //
 // Reads a packing file (generate-packing output) and the parameters (a TOML file and/or the
@@ -37,6 +39,8 @@
 #include "common/plot.h"
 #include "common/progress.h"
 #include "generator/packing_io.h"
+#include "solver/lattice_packing.h"
+#include "solver/lattice_stability.h"
 #include "solver/stability_parameters.h"
 #include "specimen_version.h"
 #include "tools/command_line.h"
@@ -60,6 +64,8 @@ struct CommandLine {
   std::string name = "packing";
   bool pictures = true;
   bool quiet = false;
+  // The six-spring lattice of the packing instead of its bonds (2D): E and nu of the solid.
+  std::optional<double> lattice_youngs, lattice_poisson;
 };
 
 // The library's field names in the messages, as the options (and file keys) that set them.
@@ -230,6 +236,90 @@ int Run(const CommandLine& cl) {
   return kExitOk;
 }
 
+// The six-spring lattice of a 2D packing (solver/lattice_packing.h): the certified critical
+// step of central differences with its lumped masses, the Gershgorin bound, the closed form
+// of the regular lattice at the mean edge length for comparison, and the verdict on --dt.
+int RunLattice(const CommandLine& cl) {
+  const StabilityParameters& v = cl.values;
+  if (!cl.lattice_youngs || !cl.lattice_poisson)
+    throw InputError("--lattice-E and --lattice-nu go together (the six-spring lattice's E and nu)");
+  if (v.normal_stiffness_n_per_m || v.tangential_stiffness_n_per_m || v.particle_youngs_modulus_pa ||
+      v.particle_poisson_ratio || !cl.walls.empty() || !cl.sweep.empty() || !cl.parameters.empty() ||
+      v.translational_damping || v.normal_dashpot_ratio || v.mass_scaling_budget)
+    throw InputError("--lattice-E / --lattice-nu analyse the lattice alone: --kn, --kt, --Ep, --nu-p, --walls, "
+                     "--sweep, --parameters, --damping, --dashpot and --mass-scaling are for bonded particles");
+  if (!v.density_kg_per_m3) throw InputError("--density is missing (the lattice's lumped masses)");
+  const double density = *v.density_kg_per_m3;
+  if (!(density > 0.0 && std::isfinite(density)))
+    throw InputError("density = " + std::to_string(density) + " (--density) is not allowed: it must be > 0");
+  const PlaneModel plane = !v.plane_model || *v.plane_model == "strain" ? PlaneModel::kPlaneStrain
+                           : *v.plane_model == "stress"             ? PlaneModel::kPlaneStress
+                                                                    : throw InputError("--plane '" + *v.plane_model +
+                                                                                       "': use strain or stress");
+  const double safety = v.safety_factor.value_or(0.7);
+  const double margin = v.time_step_margin.value_or(0.05);
+  if (!(safety > 0.0 && safety <= 1.0)) throw InputError("--safety must be in (0, 1]");
+  if (!(margin >= 0.0 && margin < 1.0)) throw InputError("--margin must be in [0, 100) per cent");
+  if (v.time_step_s && !(*v.time_step_s > 0.0)) throw InputError("--dt must be > 0");
+  if (cl.name.empty() || cl.name.find('/') != std::string::npos)
+    throw InputError("--name '" + cl.name + "' is not allowed: a non-empty file name without '/'");
+  const PlaneElasticity d = IsotropicPlaneElasticity(*cl.lattice_youngs, *cl.lattice_poisson, plane);
+  const Packing<2> packing = LoadPacking<2>(cl.packing);
+  EnsureDirectory(cl.output, "output directory");
+
+  PackingLatticeSummary built;
+  const PackingLattice lattice = BuildPackingLattice(packing, d, 1.0, {}, &built);
+  LanczosOptions lanczos;
+  if (cl.failure_probability) lanczos.failure_probability = *cl.failure_probability;
+  if (cl.tolerance_percent) lanczos.relative_tolerance = *cl.tolerance_percent / 100.0;
+  lanczos.num_threads = cl.threads > 0 ? cl.threads : IdleCores();
+  std::string error;
+  if (!lanczos.IsValid(&error)) throw InputError(error);
+  const LatticeStability s =
+      AnalyseLatticeStability(lattice.triangles, LumpedMasses(lattice.triangles, lattice.node_count(), density), lanczos);
+  double edge = 0.0;
+  for (const auto& lengths : lattice.triangles.rest_lengths) edge += (lengths[0] + lengths[1] + lengths[2]) / 3.0;
+  edge /= lattice.triangles.size();
+  const double regular = RegularLatticeStableTimeStep(*cl.lattice_youngs, *cl.lattice_poisson, plane, density, edge);
+  std::string verdict = "not judged (no --dt)";
+  if (v.time_step_s) {
+    const double ratio = *v.time_step_s / s.critical_time_step_s;
+    verdict = ratio > 1.0 ? "unstable" : ratio > 1.0 - margin ? "marginal" : "stable";
+  }
+
+  std::ostringstream text;
+  text.precision(5);
+  text << "stability-limit: six-spring lattice of " << cl.packing << "\n"
+       << "  lattice              " << built.Describe() << "\n"
+       << "  material             E " << *cl.lattice_youngs << " Pa, nu " << *cl.lattice_poisson << ", "
+       << PlaneModelName(plane) << ", density " << density << " kg/m^3\n"
+       << "  critical time step   " << s.critical_time_step_s << " s (certified 2/omega_max, Lanczos "
+       << s.lanczos.iterations << " steps, failure probability " << s.lanczos.failure_probability << ")\n"
+       << "  Gershgorin bound     " << s.gershgorin_time_step_s << " s\n"
+       << "  regular lattice      " << regular << " s at the mean edge " << edge << " m (closed form)\n"
+       << "  recommended          " << safety * s.critical_time_step_s << " s (safety " << safety << ")\n";
+  if (v.time_step_s)
+    text << "  proposed             " << *v.time_step_s << " s: " << verdict << " ("
+         << 100.0 * (1.0 - *v.time_step_s / s.critical_time_step_s) << " % below the critical step)\n";
+  nlohmann::json report = {{"command", "stability-limit"}, {"version", kVersion}, {"packing", cl.packing},
+                           {"model", "lattice"},
+                           {"lattice", {{"triangles", built.triangles}, {"surface_nodes", built.surface_nodes},
+                                        {"free_nodes", built.free_nodes}, {"smallest_angle_deg", built.smallest_angle_deg}}},
+                           {"critical_time_step_s", s.critical_time_step_s},
+                           {"gershgorin_time_step_s", s.gershgorin_time_step_s},
+                           {"regular_lattice_time_step_s", regular}, {"mean_edge_m", edge},
+                           {"recommended_time_step_s", safety * s.critical_time_step_s}, {"verdict", verdict}};
+  if (v.time_step_s) report["proposed_time_step_s"] = *v.time_step_s;
+  const std::string base = cl.output + "/" + cl.name;
+  OutputGroup group;
+  group.Add(base + "_stability.json", [&](std::ostream& out) { out << report.dump(2) << "\n"; });
+  group.Add(base + "_stability.txt", [&](std::ostream& out) { out << text.str(); });
+  const std::vector<std::string> files = group.Commit();
+  std::cout << text.str() << "\nfiles:\n";
+  for (const auto& file : files) std::cout << "  " << file << "\n";
+  return kExitOk;
+}
+
 }  // namespace
 }  // namespace specimen
 
@@ -291,8 +381,16 @@ int main(int argc, char** argv) {
       "--no-pictures", [&](std::int64_t) { cl.pictures = false; },
       "do not draw the sweep picture (the CSV is still written)");
   app.add_flag("--quiet", cl.quiet, "no progress display");
+  app.add_option("--lattice-E", cl.lattice_youngs,
+                 "analyse the six-spring lattice of the packing (2D) of this Young's modulus [Pa] instead of its bonds");
+  app.add_option("--lattice-nu", cl.lattice_poisson, "the lattice's Poisson ratio (with --lattice-E)");
   if (int status = 0; !ParseCommandLine(app, argc, argv, &status)) return status;
   return RunCommand("stability-limit", [&] {
-    return ReadPackingDimension(cl.packing) == 2 ? Run<2>(cl) : Run<3>(cl);
+    const int dimension = ReadPackingDimension(cl.packing);
+    if (cl.lattice_youngs || cl.lattice_poisson) {
+      if (dimension != 2) throw InputError("--lattice-E: the six-spring lattice is 2D; the packing is 3D");
+      return RunLattice(cl);
+    }
+    return dimension == 2 ? Run<2>(cl) : Run<3>(cl);
   }, kOptionNames);
 }

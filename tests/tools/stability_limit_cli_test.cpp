@@ -263,4 +263,38 @@ TEST_F(StabilityLimitCommand, FileErrorsExitWithThree) {
   EXPECT_EQ(r.status, 3) << r.output;
 }
 
+// The fifth sample run: the six-spring lattice of the packing. Its verdict follows its own
+// certified step (stable at half of it, unstable just above it); the Gershgorin bound lies
+// below it; bad combinations are refused before any work.
+TEST_F(StabilityLimitCommand, FifthSampleRunAnalysesTheLattice) {
+  const fs::path dir = FreshDirectory("lattice");
+  const std::string base = "--packing " + packing_ + " --lattice-E 40e9 --lattice-nu 0.25 --density 2650 --output ";
+  Result r = StabilityLimit(base + dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const nlohmann::json j = ReadJson(dir / "packing_stability.json");
+  EXPECT_EQ(j["model"], "lattice");
+  const double critical = j["critical_time_step_s"].get<double>();
+  EXPECT_GT(critical, 0.0);
+  EXPECT_LE(j["gershgorin_time_step_s"].get<double>(), critical * (1.0 + 1e-12));
+  EXPECT_GT(j["lattice"]["surface_nodes"].get<int>(), 0);
+  char dt[64];
+  std::snprintf(dt, sizeof dt, " --dt %.6g", 0.5 * critical);
+  r = StabilityLimit(base + dir.string() + dt);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(ReadJson(dir / "packing_stability.json")["verdict"], "stable");
+  std::snprintf(dt, sizeof dt, " --dt %.6g", 1.01 * critical);
+  r = StabilityLimit(base + dir.string() + dt);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(ReadJson(dir / "packing_stability.json")["verdict"], "unstable");
+  for (const char* bad : {" --lattice-E 40e9 --density 2650", " --lattice-E 40e9 --lattice-nu 0.25",
+                          " --lattice-E 40e9 --lattice-nu 0.25 --density 2650 --kn 1e10",
+                          " --lattice-E 40e9 --lattice-nu 0.7 --density 2650"}) {
+    SCOPED_TRACE(bad);
+    const fs::path out = FreshDirectory("lattice_bad");
+    const Result b = StabilityLimit("--packing " + packing_ + bad + " --output " + out.string());
+    EXPECT_EQ(b.status, 2) << b.output;
+    EXPECT_TRUE(EmptyOrMissing(out));
+  }
+}
+
 }  // namespace
