@@ -69,8 +69,6 @@ TEST(OutputGroup, CommitsAllOrNothing) {
   EXPECT_EQ(ReadAll(dir / "two.txt"), "2");
 }
 
-
-
 TEST(AtomicFile, AFailedMoveLeavesTheEarlierSetWhole) {
   const fs::path dir = FreshDirectory("atomic_set_rollback");
   const std::string a = (dir / "a.txt").string(), b = (dir / "b.txt").string(), c = (dir / "c.txt").string();
