@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include "common/error.h"
+#include "common/field_names.h"
 
 namespace specimen {
 namespace {
@@ -24,7 +25,11 @@ std::optional<double> ReadNumber(const toml::table& table, const std::string& ke
                                  const std::string& where, bool required) {
   const toml::node* node = table.get(key);
   if (node == nullptr) {
-    if (required) throw InputError(where + ": '" + key + "' is missing");
+    if (required) {
+      std::vector<std::string> present;
+      for (const auto& [k, v] : table) (void)v, present.emplace_back(k.str());
+      throw InputError(where + ": '" + key + "' is missing" + MisspeltKeys(key, present));
+    }
     return std::nullopt;
   }
   if (const auto value = node->value<double>()) return *value;

@@ -4,6 +4,7 @@
 // or a file key for each field; InUserTerms rewrites a message in those names, so that the
 // message of bad input names what the user can change.
 
+#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,6 +35,30 @@ inline std::string InUserTerms(std::string message, const FieldNames& names) {
     }
   }
   return message;
+}
+
+// For a key that is missing: the keys present that are within two edits of it (a typo:
+// "normal_stifness" for "normal_stiffness"), as " (the table has 'normal_stifness':
+// misspelled?)", or "" when none is.
+inline std::string MisspeltKeys(const std::string& key, const std::vector<std::string>& present) {
+  auto distance = [](const std::string& a, const std::string& b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+      size_t diagonal = row[0];
+      row[0] = i;
+      for (size_t j = 1; j <= b.size(); ++j) {
+        const size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        diagonal = up;
+      }
+    }
+    return row[b.size()];
+  };
+  std::string found;
+  for (const std::string& p : present)
+    if (p != key && distance(p, key) <= 2) found += (found.empty() ? "'" : ", '") + p + "'";
+  return found.empty() ? "" : " (the table has " + found + ": misspelled?)";
 }
 
 }  // namespace specimen

@@ -24,6 +24,13 @@ class TableReader {
   TableReader(const toml::table* table, std::string where) : table_(table), where_(std::move(where)) {}
 
   bool Has(const std::string& key) const { return table_ && table_->get(key) != nullptr; }
+  // "'key' is missing", naming a present key that looks like a typo of it.
+  std::string Missing(const std::string& key) const {
+    std::vector<std::string> present;
+    if (table_)
+      for (const auto& [k, v] : *table_) (void)v, present.emplace_back(k.str());
+    return where_ + ": '" + key + "' is missing" + MisspeltKeys(key, present);
+  }
 
   // A number (integers accepted; inf and nan are TOML numbers too: ranges reject nan).
   bool Number(const std::string& key, double* value) {
@@ -178,7 +185,7 @@ constexpr double kDegree = 3.14159265358979323846 / 180.0;
 // the plane model, the fracture strengths and the density.
 void ReadLatticeMaterial(TableReader& t, LatticeMaterial* m) {
   auto required = [&](const std::string& key, double* value) {
-    if (!t.Number(key, value)) throw InputError(t.where() + ": '" + key + "' is missing (model = \"lattice\")");
+    if (!t.Number(key, value)) throw InputError(t.Missing(key) + " (model = \"lattice\")");
   };
   PlaneModel plane = PlaneModel::kPlaneStrain;
   std::string plane_name;
@@ -246,7 +253,7 @@ void ReadMaterial(const toml::table* table, const std::string& source, LabScene*
     throw InputError(t.where() + ": model = '" + model + "' is not allowed: use bonded (the default) or lattice");
   MaterialParameters* m = &scene->material;
   auto required = [&](const std::string& key, double* value) {
-    if (!t.Number(key, value)) throw InputError(t.where() + ": '" + key + "' is missing");
+    if (!t.Number(key, value)) throw InputError(t.Missing(key));
   };
   required("normal_stiffness", &m->normal_stiffness_n_per_m);
   t.Number("tangential_stiffness", &m->tangential_stiffness_n_per_m);
@@ -282,7 +289,7 @@ void ReadTest(const toml::table* table, const std::string& source, LabScene* sce
   TableReader t(table, source + " [test]");
   LabTestOptions& o = scene->test;
   std::string kind;
-  if (!t.String("kind", &kind)) throw InputError(t.where() + ": 'kind' is missing");
+  if (!t.String("kind", &kind)) throw InputError(t.Missing("kind"));
   if (!ParseLabTestKind(kind, &o.kind))
     throw InputError(t.where() + ": kind = '" + kind +
                      "' is not allowed: use ucs, brazilian, biaxial, isotropic or shear");

@@ -28,6 +28,21 @@ enum ExitStatus : int {
 // CLI11 cannot convert or a conflict (CLI11 prints its message; its own exit codes, 100 and
 // up, would break the "2 = bad input" contract of every command).
 inline bool ParseCommandLine(CLI::App& app, int argc, char** argv, int* status) {
+  // An empty value ("--kt ''", "--seed=") would reach CLI11 as 0, the default or an empty
+  // string: refused, naming the option.
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool empty_after_equals = arg.rfind("--", 0) == 0 && !arg.empty() && arg.back() == '=';
+    const bool empty_after_option = arg.empty() && i > 1 && argv[i - 1][0] == '-' && argv[i - 1][1] != '\0';
+    if (empty_after_equals || empty_after_option) {
+      const std::string option = empty_after_equals ? arg.substr(0, arg.size() - 1) : std::string(argv[i - 1]);
+      std::string program = argv[0];
+      program = program.substr(program.find_last_of('/') + 1);
+      std::cerr << program << ": error: " << option << " is given an empty value\n";
+      *status = kExitBadInput;
+      return false;
+    }
+  }
   try {
     app.parse(argc, argv);
     return true;

@@ -135,6 +135,17 @@ TEST_F(RunTestCommand, BadInputWritesNothing) {
     EXPECT_NE(r.output.find("run-test: error:"), std::string::npos) << r.output;
     EXPECT_TRUE(MissingOrEmpty(out)) << r.output;
   }
+  {  // a misspelled required key: the message names the typo too
+    const fs::path dir = Scratch("typo");
+    std::ofstream(dir / "scene.toml") << "[specimen]\npacking = \"" << packing_
+                                      << "\"\n[material]\nnormal_stifness = 1e10\ndensity = 2000\n[test]\n"
+                                         "kind = \"ucs\"\n";
+    const Result r = RunTest((dir / "scene.toml").string() + " --output " + (dir / "out").string());
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("'normal_stiffness' is missing (the table has 'normal_stifness': misspelled?)"),
+              std::string::npos)
+        << r.output;
+  }
   {  // nu_p without Ep would silently run rigid particles
     const fs::path dir = Scratch("nu_p");
     const Result r = RunTest(Scene(dir, "kind = \"ucs\"\n", "particle_poisson_ratio = 0.3\n").string() +

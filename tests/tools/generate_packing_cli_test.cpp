@@ -221,3 +221,20 @@ TEST(GeneratePackingCommand, TemporariesOfAKilledRunAreRemovedByTheNextRun) {
 }
 
 }  // namespace
+
+namespace {
+
+// An empty value is refused, naming the option, never read as 0 or the default.
+TEST(GeneratePackingCommand, EmptyValuesAreRefused) {
+  for (const char* arguments : {"--radius-ratio ''", "--seed=", "--overlap-tolerance ''"}) {
+    SCOPED_TRACE(arguments);
+    const fs::path dir = FreshDirectory("empty_value");
+    const Result r = RunCommandLine(std::string("--domain \"rectangle 0 0 10 10\" --count 100 ") + arguments +
+                                    " --output " + dir.string());
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("empty value"), std::string::npos) << r.output;
+    EXPECT_TRUE(EmptyOrMissing(dir));
+  }
+}
+
+}  // namespace
