@@ -577,7 +577,9 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
   summary.tensile_honoured = solution.tensile_honoured;
   summary.gave_up = !solution.reach.given_up.empty();
   // The reach of the model used, as the strength stage left it (measured since).
-  (summary.model_used == "ddem" ? summary.deformable_reach : summary.rigid_reach) = solution.reach;
+  CalibrationReach& used_reach = summary.model_used == "ddem" ? summary.deformable_reach : summary.rigid_reach;
+  summary.reach_before_rounds = used_reach;
+  used_reach = solution.reach;
   summary.best_round = solution.best_round + 1;
   const auto& tests = model.strength_tests();
   for (size_t k = 0; k < solution.rounds.size(); ++k) {

@@ -157,6 +157,9 @@ struct CalibrationSummary {
   double sweep_seconds = 0.0;                   // this run (0 when reused), anchors included
   // Reach of each model assessed (calibration_solver.h); the chosen one in `solution`.
   CalibrationReach rigid_reach, deformable_reach;
+  // The reach of the model used as it was assessed before the first strength round (the
+  // two above end as the strength stage left them: a ratio can be given up on measurement).
+  CalibrationReach reach_before_rounds;
   // The calibration loop: elastic runs, strength rounds, transfer errors, notes.
   CalibrationSolution solution;
   std::vector<VerificationRound> rounds;  // the strength rounds

@@ -91,10 +91,16 @@ std::string CalibrationSummary::FullReport() const {
           relative_fit(maps.maps.compressive_group, &SweepPoint::compressive_group) + " / " +
           relative_fit(maps.maps.tensile_group, &SweepPoint::tensile_group));
   out << "reach (measured on the UCS specimen before any strength test)\n";
-  if (rigid_reach.assessed) out << "  rigid: " << rigid_reach.Describe(target) << "\n";
-  if (deformable_reach.assessed)
+  // The model used as it was assessed then; what the rounds changed follows.
+  const bool ddem_used = model_used == "ddem";
+  const CalibrationReach& rigid_before = !ddem_used && reach_before_rounds.assessed ? reach_before_rounds : rigid_reach;
+  const CalibrationReach& ddem_before = ddem_used && reach_before_rounds.assessed ? reach_before_rounds : deformable_reach;
+  if (rigid_before.assessed) out << "  rigid: " << rigid_before.Describe(target) << "\n";
+  if (ddem_before.assessed)
     out << "  DDEM (kn/(Ep l) <= " << Num("%.4g", admissible_particle_compliance)
-        << "): " << deformable_reach.Describe(target) << "\n";
+        << "): " << ddem_before.Describe(target) << "\n";
+  if (reach_before_rounds.assessed && reach_before_rounds.given_up != solution.reach.given_up)
+    out << "  after the strength rounds: " << solution.reach.Describe(target) << "\n";
   out << "elastic stage (intact specimen: linear portion of a UCS with unbreakable bonds)\n";
   for (const ElasticRun& r : solution.elastic_runs) {
     std::snprintf(line, sizeof(line), "  %-6s kt/kn %.5g, kn/(Ep l) %.4g, kn %.5g N/m: E %.5g GPa, nu %.5f (%.1f s)\n",
@@ -190,7 +196,8 @@ nlohmann::json CalibrationSummary::ToJson() const {
                {"admissible_kn_over_ep_l", admissible_particle_compliance}};
   j["reach"] = {{"rigid", rigid_reach.assessed ? rigid_reach.ToJson() : nlohmann::json()},
                 {"ddem", deformable_reach.assessed ? deformable_reach.ToJson() : nlohmann::json()},
-                {"used", solution.reach.ToJson()}};
+                {"used", solution.reach.ToJson()},
+                {"before_rounds", reach_before_rounds.assessed ? reach_before_rounds.ToJson() : nlohmann::json()}};
   j["elastic_runs"] = nlohmann::json::array();
   for (const ElasticRun& r : solution.elastic_runs)
     j["elastic_runs"].push_back({{"purpose", r.purpose},

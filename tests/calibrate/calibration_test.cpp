@@ -97,6 +97,10 @@ TEST(CalibrateToMaterial, RecoversAModelMadeTargetAndReusesItsMaps) {
   EXPECT_EQ(first.solution.elastic_runs[0].purpose, "reach");
   EXPECT_LE(first.rigid_reach.poisson_min, target.poisson_ratio);
   EXPECT_GE(first.rigid_reach.poisson_max, target.poisson_ratio);
+  // The reach as assessed before the rounds is kept beside the final one.
+  EXPECT_TRUE(first.reach_before_rounds.assessed);
+  EXPECT_FALSE(first.reach_before_rounds.declared_out_of_reach());
+  EXPECT_FALSE(first.ToJson()["reach"]["before_rounds"].is_null());
   // The parameters that made the target: the elastic ones exactly (nu and E of the intact
   // specimen repeat within 0.1 %). Of the strengths, Rt: at Rt/Rn 4 both tests of this
   // 300-disc specimen fail in shear (sigma_t is the same for Rn 2.0 and 2.5 kN at equal Rt),

@@ -186,13 +186,18 @@ def met(errors):
 def row_of(label, report):
     e = best_errors(report)
     reach = report["reach"]["used"]
+    # Declared before the first round: the reach as assessed then (a report without it: the
+    # final reach, and no ratio given up on measurement in the notes).
+    before = report["reach"].get("before_rounds")
+    declared = before["declared_out_of_reach"] if before else reach["declared_out_of_reach"] and not any(
+        "is out of reach on this specimen: round" in n for n in report.get("notes", []))
     return {
         "case": label, "model": report["model"]["used"], "rounds": len(report["verification"]),
         "best_round": [r["round"] for r in report["verification"] if r["best"]][0],
         "elastic_runs": len(report["elastic_runs"]), "error_youngs": e["youngs_modulus"],
         "error_poisson": e["poisson_ratio"], "error_ucs": e["ucs"], "error_tensile": e["tensile_strength"],
         "converged": report["converged"], "given_up": " ".join(report["given_up"]),
-        "declared_before_first_round": reach["declared_out_of_reach"],
+        "declared_before_first_round": declared,
         "nu_reach": "%.3f-%.3f" % (reach["poisson_min"], reach["poisson_max"]),
         "ratio_reach": "%.1f-%.1f" % (reach["strength_ratio_min"], reach["strength_ratio_max"]),
         "target_ratio": report["target"]["ucs_pa"] / report["target"]["tensile_strength_pa"],
