@@ -16,13 +16,16 @@
 
 #include <filesystem>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
 #include "calibrate/calibration.h"
 #include "calibrate/calibration_outputs.h"
+#include "calibrate/lattice_calibration.h"
 #include "calibrate/map_store.h"
 #include "calibrate/target_material.h"
+#include "common/atomic_file.h"
 #include "common/progress.h"
 #include "generator/packing_io.h"
 #include "specimen_version.h"
@@ -143,6 +146,82 @@ int Run(const TargetMaterial& target, CalibrationOptions options, const CommandL
   return kExitOk;
 }
 
+// --model lattice: the six-spring lattice (calibrate/lattice_calibration.h): E and nu are its
+// inputs, the rounds fit the triangles' cohesion and tensile strength; no maps.
+int RunLattice(const TargetMaterial& target, const CommandLine& cl) {
+  CalibrationOutputOptions output;
+  output.directory = cl.output;
+  output.name = cl.name;
+  output.pictures = false;
+  CheckCalibrationOutputLocation(output);
+  TerminalProgress progress(cl.quiet);
+  LatticeCalibrationOptions options;
+  options.max_rounds = cl.rounds;
+  if (cl.rate_group) options.test.loading_rate_group = *cl.rate_group;
+  options.progress = progress.Callback();
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(InUserTerms(error, {{"max_rounds", "--rounds"},
+                                                                    {"loading_rate_group", "--rate-group"}}));
+  Packing<2> ucs(Domain<2>::Rectangle(0, 0, 1, 1)), bts(Domain<2>::Rectangle(0, 0, 1, 1));
+  std::string description;
+  if (!cl.packing.empty()) {
+    if (cl.bts_packing.empty()) throw InputError("--packing needs --bts-packing (the Brazilian disc) as well");
+    ucs = LoadPacking<2>(cl.packing);
+    bts = LoadPacking<2>(cl.bts_packing);
+    description = "UCS " + cl.packing + ", Brazilian " + cl.bts_packing;
+  } else {
+    SpecimenPlan<2> plan;
+    plan.ucs_domain = cl.ucs_domain;
+    plan.ucs_particles = cl.count.value_or(0);
+    plan.sweep_fraction = 1.0;  // no maps: no map specimens
+    plan.seed = static_cast<std::uint64_t>(cl.seed);
+    plan.radius_ratio = cl.radius_ratio;
+    plan.progress = options.progress;
+    const CalibrationSpecimens<2> made = MakeCalibrationSpecimens<2>(plan);
+    ucs = made.ucs;
+    bts = made.bts;
+    description = made.description;
+  }
+  const LatticeCalibrationSummary summary = CalibrateLattice(ucs, bts, target, options);
+  progress.Finish();
+
+  // The files, together: report, JSON, parameters, the two specimens and their scenes.
+  const std::string base = cl.output + "/" + cl.name;
+  auto scene = [&](const char* kind, const std::string& packing) {
+    return "# run-test scene of calibrate-to-material --model lattice\n[specimen]\npacking = \"" +
+           std::filesystem::path(packing).filename().string() + "\"\n\n" + summary.MaterialToml() +
+           "\n[test]\nkind = \"" + kind + "\"\n\n[output]\nname = \"" + cl.name + "_" + kind + "\"\n";
+  };
+  nlohmann::json report = summary.ToJson();
+  report["command"] = "calibrate-to-material";
+  report["version"] = kVersion;
+  report["specimens"]["description"] = description;
+  OutputGroup group;
+  group.Add(base + "_report.txt", [&](std::ostream& out) { out << summary.FullReport(); });
+  group.Add(base + "_report.json", [&](std::ostream& out) { out << report.dump(2) << "\n"; });
+  group.Add(base + "_parameters.toml", [&](std::ostream& out) {
+    out << "# calibrate-to-material --model lattice: " << summary.BriefReport() << "\n" << summary.MaterialToml();
+  });
+  group.Add(base + "_ucs.packing", [&](std::ostream& out) { WritePacking<2>(ucs, out); });
+  group.Add(base + "_bts.packing", [&](std::ostream& out) { WritePacking<2>(bts, out); });
+  group.Add(base + "_ucs_scene.toml", [&](std::ostream& out) { out << scene("ucs", base + "_ucs.packing"); });
+  group.Add(base + "_bts_scene.toml", [&](std::ostream& out) { out << scene("brazilian", base + "_bts.packing"); });
+  const std::vector<std::string> files = group.Commit();
+  std::cout << "specimens: " << description << "\n\n" << summary.FullReport() << "\n" << summary.BriefReport()
+            << "\nfiles:\n";
+  for (const auto& file : files) std::cout << "  " << file << "\n";
+  if (summary.tensile_capped) {
+    std::cerr << "calibrate-to-material: sigma_t is out of the lattice's reach on this specimen; given up: sigma_t "
+                 "(the report says where the Brazilian strength stays)\n";
+    return kExitComputation;
+  }
+  if (!summary.converged) {
+    std::cerr << "calibrate-to-material: the targets were not all met within tolerance (see the report)\n";
+    return kExitComputation;
+  }
+  return kExitOk;
+}
+
 }  // namespace
 }  // namespace specimen
 
@@ -154,7 +233,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string(kVersion));
   app.add_option("material", cl.material, "target material (TOML; see data/materials/)")->required();
   app.add_option("--dimension", cl.dimension, "2 (discs, plane strain) or 3 (spheres), default 2");
-  app.add_option("--model", cl.model, "rigid | ddem | auto (DDEM when nu is beyond rigid particles), default auto");
+  app.add_option("--model", cl.model,
+                 "rigid | ddem | auto (DDEM when nu is beyond rigid particles) | lattice (six-spring, 2D), default auto");
   app.add_option("--packing", cl.packing, "UCS specimen packing file (else generated)");
   app.add_option("--bts-packing", cl.bts_packing, "Brazilian disc packing file (with --packing)");
   app.add_option("--ucs-domain", cl.ucs_domain,
@@ -190,9 +270,18 @@ int main(int argc, char** argv) {
     if (cl.dimension != 2 && cl.dimension != 3)
       throw InputError("--dimension = " + std::to_string(cl.dimension) + ", allowed 2 or 3");
     const TargetMaterial target = LoadTargetMaterial(cl.material);
+    if (cl.model == "lattice") {
+      if (cl.dimension != 2) throw InputError("--model lattice: the six-spring lattice is 2D (--dimension 2)");
+      // Settings of the bonded calibration that the lattice has no use for: refused, not ignored.
+      for (const char* option : {"--maps", "--maps-dir", "--no-reuse", "--workers", "--sweep-fraction",
+                                 "--sweep-levels", "--nu-p", "--friction", "--max-spectral-radius", "--honour"})
+        if (app.count(option) > 0)
+          throw InputError(std::string(option) + " is a setting of the bonded calibration; --model lattice has no maps");
+      return RunLattice(target, cl);
+    }
     CalibrationOptions options;
     if (!ParseCalibrationModel(cl.model, &options.model))
-      throw InputError("--model = '" + cl.model + "', allowed rigid, ddem or auto");
+      throw InputError("--model = '" + cl.model + "', allowed rigid, ddem, auto or lattice");
     if (cl.honour != "compressive" && cl.honour != "tensile")
       throw InputError("--honour = '" + cl.honour + "', allowed compressive or tensile");
     options.honour = cl.honour == "tensile" ? HonouredStrength::kTensile : HonouredStrength::kCompressive;

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 namespace {
@@ -113,6 +114,41 @@ TEST(CalibrateToMaterialCommand, UnreachableTargetExitsWithFourAndSaysWhatWasGiv
   EXPECT_TRUE(fs::exists(out / "calibration_report.json"));
   EXPECT_TRUE(fs::exists(out / "calibration_reach.csv"));
   fs::remove_all(out);
+}
+
+}  // namespace
+
+namespace {
+
+// --model lattice: no maps; the files of the calibration; bonded-only settings refused.
+TEST(CalibrateToMaterialCommand, LatticeModelWritesItsParametersAndScenes) {
+  const fs::path out = fs::temp_directory_path() / ("specimen_cal_cli_lattice_" + std::to_string(getpid()));
+  fs::remove_all(out);
+  const std::string material =
+      Material("lattice", "youngs_modulus = 30e9\npoisson_ratio = 0.25\nucs = 90e6\ntensile_strength = 6e6\n"
+                          "density = 2600\n").string();
+  const Result r = RunCalibrate(material + " --model lattice --count 500 --rounds 3 --output " + out.string() +
+                                " --name l");
+  ASSERT_TRUE(r.status == 0 || r.status == 4) << r.output;
+  for (const char* file : {"l_report.txt", "l_report.json", "l_parameters.toml", "l_ucs.packing", "l_bts.packing",
+                           "l_ucs_scene.toml", "l_bts_scene.toml"})
+    EXPECT_TRUE(fs::exists(out / file)) << file << "\n" << r.output;
+  std::ifstream in(out / "l_parameters.toml");
+  const std::string parameters((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(parameters.find("model = \"lattice\""), std::string::npos) << parameters;
+  // The scenes run as they are.
+  const Result scene = specimen::testing::RunProgram(
+      "run-test", (out / "l_ucs_scene.toml").string() + " --output " + (out / "run").string() + " --no-pictures");
+  EXPECT_TRUE(scene.status == 0) << scene.output;
+  fs::remove_all(out);
+  for (const char* bonded : {" --maps-dir /tmp/x", " --nu-p 0.3", " --dimension 3"}) {
+    SCOPED_TRACE(bonded);
+    const fs::path bad = fs::temp_directory_path() / "specimen_cal_cli_lattice_bad";
+    fs::remove_all(bad);
+    const Result b = RunCalibrate(material + " --model lattice --output " + bad.string() + bonded);
+    EXPECT_EQ(b.status, 2) << b.output;
+    EXPECT_FALSE(fs::exists(bad) && !fs::is_empty(bad));
+  }
 }
 
 }  // namespace

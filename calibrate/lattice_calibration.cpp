@@ -1,0 +1,224 @@
+#include "calibrate/lattice_calibration.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <future>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "common/error.h"
+
+namespace specimen {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string Format(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
+}  // namespace
+
+bool LatticeCalibrationOptions::IsValid(std::string* error) const {
+  for (const auto& [name, value] : {std::pair<const char*, double>{"tolerance_youngs", tolerance_youngs},
+                                    {"tolerance_poisson", tolerance_poisson},
+                                    {"tolerance_ucs", tolerance_ucs},
+                                    {"tolerance_tensile", tolerance_tensile}})
+    if (!(value > 0.0 && value < 1.0)) {
+      *error = std::string(name) + " = " + std::to_string(value) + ": must be in (0, 1)";
+      return false;
+    }
+  if (max_rounds < 1 || max_rounds > 20) {
+    *error = "max_rounds = " + std::to_string(max_rounds) + ": must be in [1, 20]";
+    return false;
+  }
+  return test.IsValid(error) && protocol.IsValid(error);
+}
+
+LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<2>& bts, const TargetMaterial& target,
+                                           const LatticeCalibrationOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(error);
+  if (!target.IsValid(&error)) throw InputError(error);
+  if (!(target.poisson_ratio > -1.0 && target.poisson_ratio < 0.5))
+    throw InputError("poisson_ratio = " + std::to_string(target.poisson_ratio) +
+                     ": the plane-strain lattice needs nu in (-1, 0.5)");
+  if (ucs.domain.shape() != DomainShape::kRectangle)
+    throw InputError("the lattice UCS specimen must be a rectangle, not a " + ucs.domain.ShapeName());
+  if (bts.domain.shape() != DomainShape::kDisc)
+    throw InputError("the lattice Brazilian specimen must be a disc, not a " + bts.domain.ShapeName());
+  const auto start = std::chrono::steady_clock::now();
+  LatticeCalibrationSummary summary;
+  summary.target = target;
+  summary.friction_angle_deg = target.friction_angle_deg.value_or(30.0);
+  if (summary.friction_angle_deg > 60.0)
+    throw InputError("friction_angle = " + std::to_string(summary.friction_angle_deg) +
+                     ": the lattice's Mohr-Coulomb limit takes at most 60 degrees");
+  summary.ucs_particles = ucs.size();
+  summary.bts_particles = bts.size();
+  LatticeMaterial material;
+  material.elasticity = IsotropicPlaneElasticity(target.youngs_modulus_pa, target.poisson_ratio, PlaneModel::kPlaneStrain);
+  material.density_kg_per_m3 = target.density_kg_per_m3;
+  const double phi = summary.friction_angle_deg * kPi / 180.0;
+  // ln of (c, sigma_t of the triangles): the UCS's closed form and the target's sigma_t.
+  Eigen::Vector2d p(std::log(target.ucs_pa * (1.0 - std::sin(phi)) / (2.0 * std::cos(phi))),
+                    std::log(target.tensile_strength_pa));
+  const Eigen::Vector2d goal(std::log(target.ucs_pa), std::log(target.tensile_strength_pa));
+  Eigen::Vector2d slopes(1.0, 1.0);  // d ln UCS / d ln c, d ln sigma_t(BTS) / d ln sigma_t
+  Eigen::Vector2d previous_p = Eigen::Vector2d::Zero(), previous_m = Eigen::Vector2d::Zero();
+  const double tau_c = std::log1p(options.tolerance_ucs), tau_t = std::log1p(options.tolerance_tensile);
+
+  for (int round = 1; round <= options.max_rounds; ++round) {
+    const auto round_start = std::chrono::steady_clock::now();
+    material.strength = {std::exp(p[1]), std::exp(p[0]), summary.friction_angle_deg};
+    if (options.progress)
+      options.progress(static_cast<double>(round - 1) / options.max_rounds,
+                       "lattice round " + std::to_string(round) + ": c " + Format("%.4g", material.strength.cohesion_pa) +
+                           " Pa, sigma_t " + Format("%.4g", material.strength.tensile_strength_pa) + " Pa");
+    LabTestOptions ucs_test = options.test, bts_test = options.test;
+    ucs_test.kind = LabTestKind::kUniaxialCompression;
+    bts_test.kind = LabTestKind::kBrazilian;
+    ucs_test.progress = bts_test.progress = nullptr;
+    auto bts_run = std::async(std::launch::async,
+                              [&]() { return RunLatticeLabTest(bts, material, bts_test, options.protocol); });
+    const LabTestResult u = RunLatticeLabTest(ucs, material, ucs_test, options.protocol);
+    const LabTestResult b = bts_run.get();
+    if (!u.peak_reached || !b.peak_reached)
+      throw ComputationError(std::string("lattice round ") + std::to_string(round) + ": the " +
+                             (!u.peak_reached ? "UCS" : "Brazilian") + " test " +
+                             (!u.peak_reached ? u.termination_message : b.termination_message));
+    summary.critical_time_step_s = u.critical_time_step_s;
+    LatticeCalibrationRound r;
+    r.round = round;
+    r.cohesion_pa = material.strength.cohesion_pa;
+    r.tensile_strength_pa = material.strength.tensile_strength_pa;
+    r.ucs_pa = u.peak_stress_pa;
+    r.bts_pa = b.tensile_strength_pa;
+    r.youngs_modulus_pa = u.linear_elastic.youngs_modulus_pa;
+    r.poisson_ratio = u.linear_elastic.poisson_ratio;
+    r.error_ucs = r.ucs_pa / target.ucs_pa - 1.0;
+    r.error_tensile = r.bts_pa / target.tensile_strength_pa - 1.0;
+    r.error_youngs = r.youngs_modulus_pa / target.youngs_modulus_pa - 1.0;
+    r.error_poisson = r.poisson_ratio / target.poisson_ratio - 1.0;
+    const Eigen::Vector2d m(std::log(r.ucs_pa), std::log(r.bts_pa));
+    r.weighted_error = std::pow((m[0] - goal[0]) / tau_c, 2) +
+                       (summary.tensile_capped ? 0.0 : std::pow((m[1] - goal[1]) / tau_t, 2));
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - round_start).count();
+    summary.rounds.push_back(r);
+    if (summary.best_round == 0 || r.weighted_error < summary.rounds[summary.best_round - 1].weighted_error) {
+      summary.best_round = round;
+      summary.material = material;
+    }
+    if (std::abs(r.error_ucs) <= options.tolerance_ucs &&
+        (summary.tensile_capped || std::abs(r.error_tensile) <= options.tolerance_tensile))
+      break;
+    // Each strength is stepped by its own secant in logarithms (the UCS by c, sigma_t by the
+    // triangles' sigma_t): the slope measured between the last two rounds where that strength
+    // moved, clamped to [0.2, 1.5], else 1. A Brazilian strength that no longer follows the
+    // triangles' sigma_t (a rise of 10 % or more moving it less than 1 %) is capped by the
+    // shear limit: sigma_t is then out of the lattice's reach at this friction angle, and kept.
+    for (int k = 0; k < 2; ++k) {
+      if (round > 1 && std::abs(p[k] - previous_p[k]) > 1e-6) {
+        const double slope = (m[k] - previous_m[k]) / (p[k] - previous_p[k]);
+        if (k == 1 && p[1] - previous_p[1] >= std::log(1.1) && std::abs(m[1] - previous_m[1]) < std::log(1.01) &&
+            !summary.tensile_capped) {
+          summary.tensile_capped = true;
+          summary.notes.push_back("the Brazilian strength stays at " + Format("%.4g", r.bts_pa / 1e6) +
+                                  " MPa as the triangles' sigma_t rises: the shear limit (c, phi) caps it, and " +
+                                  Format("%.4g", target.tensile_strength_pa / 1e6) +
+                                  " MPa is out of reach at this friction angle; sigma_t is given up");
+        }
+        slopes[k] = std::clamp(slope, 0.2, 1.5);
+      }
+    }
+    previous_p = p;
+    previous_m = m;
+    for (int k = 0; k < 2; ++k) {
+      if (k == 1 && summary.tensile_capped) continue;
+      p[k] += std::clamp((goal[k] - m[k]) / slopes[k], -std::log(3.0), std::log(3.0));
+    }
+  }
+  const LatticeCalibrationRound& best = summary.rounds[summary.best_round - 1];
+  summary.converged = std::abs(best.error_ucs) <= options.tolerance_ucs &&
+                      (summary.tensile_capped || std::abs(best.error_tensile) <= options.tolerance_tensile) &&
+                      std::abs(best.error_youngs) <= options.tolerance_youngs &&
+                      std::abs(best.error_poisson) <= options.tolerance_poisson;
+  summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+std::string LatticeCalibrationSummary::MaterialToml() const {
+  std::ostringstream out;
+  out.precision(10);
+  const LatticeCalibrationRound& b = rounds[best_round - 1];
+  out << "[material]\nmodel = \"lattice\"\nyoungs_modulus = " << target.youngs_modulus_pa
+      << "\npoisson_ratio = " << target.poisson_ratio << "\nplane_model = \"plane_strain\"\ntensile_strength = "
+      << b.tensile_strength_pa << "\ncohesion = " << b.cohesion_pa << "\nfriction_angle = " << friction_angle_deg
+      << "\ndensity = " << target.density_kg_per_m3 << "\n";
+  return out.str();
+}
+
+std::string LatticeCalibrationSummary::FullReport() const {
+  std::ostringstream out;
+  char line[400];
+  out << "Calibration of the six-spring lattice (2D, plane strain) to '" << target.name << "'\n";
+  std::snprintf(line, sizeof line, "  target: E %.5g GPa, nu %.4g, UCS %.4g MPa, sigma_t %.4g MPa\n",
+                target.youngs_modulus_pa / 1e9, target.poisson_ratio, target.ucs_pa / 1e6, target.tensile_strength_pa / 1e6);
+  out << line << "  specimens: UCS " << ucs_particles << " particles, Brazilian " << bts_particles << "\n"
+      << "  E and nu are the lattice's inputs; the rounds fit the triangles' cohesion and tensile strength"
+      << " (friction angle " << friction_angle_deg << " degrees)\n";
+  for (const LatticeCalibrationRound& r : rounds) {
+    std::snprintf(line, sizeof line,
+                  "  round %d%s: c %.4g MPa, sigma_t %.4g MPa: UCS %.4g MPa (%+.2f %%), sigma_t %.4g MPa (%+.2f %%); "
+                  "E %+.2f %%, nu %+.2f %%; %.0f s\n",
+                  r.round, r.round == best_round ? " (best)" : "", r.cohesion_pa / 1e6, r.tensile_strength_pa / 1e6,
+                  r.ucs_pa / 1e6, 100 * r.error_ucs, r.bts_pa / 1e6, 100 * r.error_tensile, 100 * r.error_youngs,
+                  100 * r.error_poisson, r.seconds);
+    out << line;
+  }
+  for (const std::string& note : notes) out << "  note: " << note << "\n";
+  out << "  converged: " << (converged ? "yes" : "no") << (tensile_capped ? " (sigma_t given up)" : "") << "; critical time step of the UCS "
+      << Format("%.4g", critical_time_step_s) << " s; wall time " << Format("%.1f", wall_seconds) << " s\n";
+  return out.str();
+}
+
+std::string LatticeCalibrationSummary::BriefReport() const {
+  const LatticeCalibrationRound& b = rounds[best_round - 1];
+  char line[300];
+  std::snprintf(line, sizeof line,
+                "2D lattice calibration to '%s': E %+.2f %%, nu %+.2f %%, UCS %+.2f %%, sigma_t %+.2f %% (round %d of "
+                "%zu); %s; %.1f s",
+                target.name.c_str(), 100 * b.error_youngs, 100 * b.error_poisson, 100 * b.error_ucs,
+                100 * b.error_tensile, best_round, rounds.size(), converged ? "converged" : "NOT converged",
+                wall_seconds);
+  return line;
+}
+
+nlohmann::json LatticeCalibrationSummary::ToJson() const {
+  nlohmann::json j;
+  j["model"] = "lattice";
+  j["target"] = TargetMaterialToJson(target);
+  j["friction_angle_deg"] = friction_angle_deg;
+  j["converged"] = converged;
+  j["given_up"] = tensile_capped ? nlohmann::json::array({"sigma_t"}) : nlohmann::json::array();
+  j["notes"] = notes;
+  j["best_round"] = best_round;
+  j["critical_time_step_s"] = critical_time_step_s;
+  j["wall_seconds"] = wall_seconds;
+  j["specimens"] = {{"ucs_particles", ucs_particles}, {"bts_particles", bts_particles}};
+  for (const LatticeCalibrationRound& r : rounds)
+    j["rounds"].push_back({{"round", r.round}, {"cohesion_pa", r.cohesion_pa},
+                           {"tensile_strength_pa", r.tensile_strength_pa}, {"ucs_pa", r.ucs_pa}, {"bts_pa", r.bts_pa},
+                           {"youngs_modulus_pa", r.youngs_modulus_pa}, {"poisson_ratio", r.poisson_ratio},
+                           {"relative_errors",
+                            {{"youngs_modulus", r.error_youngs}, {"poisson_ratio", r.error_poisson},
+                             {"ucs", r.error_ucs}, {"tensile_strength", r.error_tensile}}},
+                           {"seconds", r.seconds}});
+  return j;
+}
+
+}  // namespace specimen

@@ -1,0 +1,82 @@
+#pragma once
+// calibrate-to-material --model lattice: the six-spring lattice (lab/lattice_lab_test.h) for a
+// target E, nu, UCS and tensile strength. The elastic constants need no calibration: D is the
+// plane-strain matrix of the target's E and nu, which the lattice reproduces exactly (the
+// linear portion of each round's UCS confirms it). The two strengths of the triangles, the
+// cohesion c and the tensile strength sigma_t (phi: the target's friction angle, else 30
+// degrees), are found by rounds of UCS and Brazilian tests on the real specimens:
+//   - start: c from the triangles' own Mohr-Coulomb UCS, 2 c cos(phi) / (1 - sin(phi)) = UCS,
+//     and sigma_t = the target's;
+//   - each round measures the UCS and the Brazilian sigma_t; each strength of the triangles is
+//     stepped by its own secant in logarithms (c for the UCS, sigma_t for the Brazilian; the
+//     slope 1 at first, then measured, clamped to [0.2, 1.5]), at most a factor 3 per step;
+//   - a Brazilian strength that stops following the triangles' sigma_t is capped by their
+//     shear limit: sigma_t is then out of reach at this friction angle, said so, and given up;
+//   - stop when UCS and sigma_t are within their tolerances; the result is the best round.
+// No maps: a round is two short tests of an elastic-brittle lattice.
+//
+//   LatticeCalibrationOptions options;
+//   LatticeCalibrationSummary s = CalibrateLattice(ucs_packing, bts_packing, target, options);
+//   std::cout << s.FullReport();
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "calibrate/target_material.h"
+#include "common/progress.h"
+#include "generator/packing.h"
+#include "lab/lattice_lab_test.h"
+
+namespace specimen {
+
+struct LatticeCalibrationOptions {
+  double tolerance_youngs = 0.015, tolerance_poisson = 0.015;  // the linear portion's check
+  double tolerance_ucs = 0.02, tolerance_tensile = 0.05;
+  int max_rounds = 6;                 // in [1, 20]
+  LabTestOptions test;                // rate, sampling (kind is set per test)
+  LatticeProtocol protocol;
+  ProgressCallback progress;          // may be empty
+
+  bool IsValid(std::string* error) const;
+};
+
+struct LatticeCalibrationRound {
+  int round = 0;
+  double cohesion_pa = 0.0, tensile_strength_pa = 0.0;  // of the triangles
+  double ucs_pa = 0.0, bts_pa = 0.0;                    // measured
+  double youngs_modulus_pa = 0.0, poisson_ratio = 0.0;  // linear portion of the UCS
+  double error_ucs = 0.0, error_tensile = 0.0, error_youngs = 0.0, error_poisson = 0.0;
+  double weighted_error = 0.0;  // sum of (strength error / tolerance)^2
+  double seconds = 0.0;
+};
+
+struct LatticeCalibrationSummary {
+  TargetMaterial target;
+  LatticeMaterial material;  // the best round's
+  double friction_angle_deg = 30.0;
+  std::vector<LatticeCalibrationRound> rounds;
+  int best_round = 0;        // 1-based
+  bool converged = false;    // UCS and sigma_t (unless given up) within tolerance, E, nu confirmed
+  // The Brazilian strength stopped following the triangles' sigma_t (the shear limit caps
+  // it): sigma_t is out of reach at this friction angle and given up.
+  bool tensile_capped = false;
+  std::vector<std::string> notes;
+  int ucs_particles = 0, bts_particles = 0;
+  double critical_time_step_s = 0.0;  // of the UCS test
+  double wall_seconds = 0.0;
+
+  std::string FullReport() const;
+  std::string BriefReport() const;
+  nlohmann::json ToJson() const;
+  // The material as a run-test scene's [material] table (model = "lattice").
+  std::string MaterialToml() const;
+};
+
+// InputError for invalid options, a non-rectangle UCS or a non-disc Brazilian specimen;
+// ComputationError when a test reaches no peak.
+LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<2>& bts, const TargetMaterial& target,
+                                           const LatticeCalibrationOptions& options);
+
+}  // namespace specimen

@@ -1,0 +1,79 @@
+// The lattice calibration (calibrate/lattice_calibration.h) on a twin target: the UCS and
+// Brazilian tests of the lattice at hidden triangle strengths make the target; the
+// calibration, given only E, nu, UCS and sigma_t, meets them within the tolerances and finds
+// the hidden strengths back. Bad input is refused.
+
+#include "calibrate/lattice_calibration.h"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+#include "generator/generate.h"
+
+namespace specimen {
+namespace {
+
+Packing<2> Generated(const Domain<2>& domain) {
+  GeneratorOptions options = DefaultGeneratorOptions<2>();
+  options.particle_count = 700;
+  options.seed = 9;
+  return GeneratePacking<2>(domain, options, nullptr);
+}
+
+TEST(LatticeCalibration, FindsTheHiddenStrengthsOfATwin) {
+  const Packing<2> ucs = Generated(Domain<2>::Rectangle(0.0, 0.0, 0.02, 0.02));
+  const Packing<2> bts = Generated(Domain<2>::Disc(Vector<2>(0.01, 0.01), 0.01));
+  LatticeMaterial hidden;
+  hidden.elasticity = IsotropicPlaneElasticity(35e9, 0.3, PlaneModel::kPlaneStrain);
+  hidden.density_kg_per_m3 = 2600.0;
+  hidden.strength = {7e6, 22e6, 30.0};
+  LabTestOptions test;
+  const LabTestResult u = RunLatticeLabTest(ucs, hidden, test);
+  test.kind = LabTestKind::kBrazilian;
+  const LabTestResult b = RunLatticeLabTest(bts, hidden, test);
+  ASSERT_TRUE(u.peak_reached && b.peak_reached);
+  TargetMaterial target;
+  target.name = "lattice twin";
+  target.youngs_modulus_pa = 35e9;
+  target.poisson_ratio = 0.3;
+  target.ucs_pa = u.peak_stress_pa;
+  target.tensile_strength_pa = b.tensile_strength_pa;
+  target.density_kg_per_m3 = 2600.0;
+
+  const LatticeCalibrationSummary s = CalibrateLattice(ucs, bts, target, LatticeCalibrationOptions{});
+  SCOPED_TRACE(s.FullReport());
+  EXPECT_TRUE(s.converged);
+  EXPECT_LE(s.rounds.size(), 4u);
+  const LatticeCalibrationRound& best = s.rounds[s.best_round - 1];
+  EXPECT_LE(std::abs(best.error_ucs), 0.02);
+  EXPECT_LE(std::abs(best.error_tensile), 0.05);
+  EXPECT_NEAR(s.material.strength.cohesion_pa / 22e6, 1.0, 0.05);
+  EXPECT_NEAR(s.material.strength.tensile_strength_pa / 7e6, 1.0, 0.1);
+  // The reports: the parameters as a scene's [material] table, the JSON rounds.
+  EXPECT_NE(s.MaterialToml().find("model = \"lattice\""), std::string::npos);
+  EXPECT_EQ(s.ToJson()["rounds"].size(), s.rounds.size());
+}
+
+TEST(LatticeCalibration, BadInputIsRefused) {
+  const Packing<2> square = Generated(Domain<2>::Rectangle(0.0, 0.0, 0.02, 0.02));
+  TargetMaterial target;
+  target.name = "t";
+  target.youngs_modulus_pa = 30e9;
+  target.poisson_ratio = 0.25;
+  target.ucs_pa = 100e6;
+  target.tensile_strength_pa = 8e6;
+  target.density_kg_per_m3 = 2600.0;
+  LatticeCalibrationOptions options;
+  options.max_rounds = 0;
+  std::string error;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("max_rounds"), std::string::npos);
+  EXPECT_THROW(CalibrateLattice(square, square, target, options), InputError);
+  // The Brazilian specimen must be a disc.
+  EXPECT_THROW(CalibrateLattice(square, square, target, LatticeCalibrationOptions{}), InputError);
+}
+
+}  // namespace
+}  // namespace specimen
