@@ -135,6 +135,7 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
         slopes[k] = std::clamp(slope, 0.2, 1.5);
       }
     }
+    if (summary.tensile_capped && std::abs(r.error_ucs) <= options.tolerance_ucs) break;  // the UCS alone is left
     previous_p = p;
     previous_m = m;
     for (int k = 0; k < 2; ++k) {
