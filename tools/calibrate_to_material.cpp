@@ -28,6 +28,7 @@
 #include "common/atomic_file.h"
 #include "common/progress.h"
 #include "generator/packing_io.h"
+#include "lab/lab_specimen.h"
 #include "specimen_version.h"
 #include "tools/command_line.h"
 
@@ -112,6 +113,9 @@ int Run(const TargetMaterial& target, CalibrationOptions options, const CommandL
       if (cl.bts_packing.empty()) throw InputError("--packing needs --bts-packing (the Brazilian disc) as well");
       Packing<Dim> ucs = LoadPacking<Dim>(cl.packing);
       Packing<Dim> bts = LoadPacking<Dim>(cl.bts_packing);
+      // Checked against their tests before any map sweep (a refused run leaves nothing).
+      DescribeSpecimen<Dim>(ucs, LabTestKind::kUniaxialCompression, options.test.strain_boundary_margin);
+      DescribeSpecimen<Dim>(bts, LabTestKind::kBrazilian, options.test.strain_boundary_margin);
       CalibrationSpecimens<Dim> s(ucs, bts, ucs, bts);
       s.description = "UCS " + cl.packing + ", Brazilian " + cl.bts_packing + " (maps on the same packings)";
       return s;
@@ -168,6 +172,8 @@ int RunLattice(const TargetMaterial& target, const CommandLine& cl) {
     if (cl.bts_packing.empty()) throw InputError("--packing needs --bts-packing (the Brazilian disc) as well");
     ucs = LoadPacking<2>(cl.packing);
     bts = LoadPacking<2>(cl.bts_packing);
+    CheckSpecimenShape<2>(ucs.domain, LabTestKind::kUniaxialCompression);
+    CheckSpecimenShape<2>(bts.domain, LabTestKind::kBrazilian);
     description = "UCS " + cl.packing + ", Brazilian " + cl.bts_packing;
   } else {
     SpecimenPlan<2> plan;

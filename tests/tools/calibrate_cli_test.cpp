@@ -152,3 +152,30 @@ TEST(CalibrateToMaterialCommand, LatticeModelWritesItsParametersAndScenes) {
 }
 
 }  // namespace
+
+namespace {
+
+// A Brazilian "disc" that is a rectangle is refused before any work: status 2, nothing in the
+// output or maps folders (no sweep journal).
+TEST(CalibrateToMaterialCommand, AWrongSpecimenShapeIsRefusedBeforeTheSweep) {
+  const fs::path dir = fs::temp_directory_path() / ("specimen_cal_cli_shape_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  const Result g = specimen::testing::RunProgram(
+      "generate-packing", "--domain \"rectangle 0 0 0.01 0.01\" --count 200 --no-pictures --output " + dir.string());
+  ASSERT_EQ(g.status, 0) << g.output;
+  const std::string packing = (dir / "packing.packing").string();
+  for (const char* model : {"rigid", "lattice"}) {
+    SCOPED_TRACE(model);
+    const fs::path out = dir / "out", maps = dir / "maps";
+    const Result r = RunCalibrate(Material("shape", kGood).string() + " --model " + model + " --packing " + packing +
+                                  " --bts-packing " + packing + " --output " + out.string() +
+                                  (std::string(model) == "rigid" ? " --maps-dir " + maps.string() : ""));
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("disc"), std::string::npos) << r.output;
+    EXPECT_TRUE(!fs::exists(out) || fs::is_empty(out));
+    EXPECT_TRUE(!fs::exists(maps) || fs::is_empty(maps));
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
