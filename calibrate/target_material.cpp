@@ -1,6 +1,7 @@
 #include "calibrate/target_material.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -127,6 +128,8 @@ TargetMaterial ParseTargetMaterial(const std::string& toml_text, const std::stri
 }
 
 TargetMaterial LoadTargetMaterial(const std::string& path) {
+  if (std::filesystem::is_directory(path))
+    throw FileError("the material file '" + path + "' is a directory, not a file");
   std::ifstream in(path);
   if (!in) throw FileError("cannot read the material file '" + path + "'");
   std::stringstream text;

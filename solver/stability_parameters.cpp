@@ -3,6 +3,7 @@
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -136,6 +137,8 @@ StabilityParameters ParseStabilityParameters(const std::string& text, const std:
 }
 
 StabilityParameters LoadStabilityParameters(const std::string& path) {
+  if (std::filesystem::is_directory(path))
+    throw FileError("the parameter file '" + path + "' is a directory, not a file");
   std::ifstream in(path);
   if (!in) throw FileError("cannot read the parameter file '" + path + "'");
   std::stringstream text;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "common/error.h"
 
 namespace specimen {
@@ -74,6 +76,8 @@ TEST(TargetMaterial, BadInputNamesTheFieldAndRange) {
   ExpectRejected("[material\n", "line 1");
   ExpectRejected("x = 1\n", "unknown key 'x'");
   EXPECT_THROW(LoadTargetMaterial("/nonexistent/material.toml"), FileError);
+  // A directory is a file error, not a material without its table.
+  EXPECT_THROW(LoadTargetMaterial(std::filesystem::temp_directory_path().string()), FileError);
 }
 
 }  // namespace

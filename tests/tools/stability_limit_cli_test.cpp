@@ -258,6 +258,12 @@ TEST_F(StabilityLimitCommand, FileErrorsExitWithThree) {
   EXPECT_EQ(r.status, 3) << r.output;
   EXPECT_NE(r.output.find("line 1"), std::string::npos) << r.output;
   EXPECT_TRUE(EmptyOrMissing(dir));
+  // A directory as the parameter file is a file error (it was read as an empty file).
+  r = StabilityLimit("--packing " + packing_ + " --parameters " + fs::temp_directory_path().string() +
+                     " --kn 7e10 --density 2000 --output " + dir.string());
+  EXPECT_EQ(r.status, 3) << r.output;
+  EXPECT_NE(r.output.find("is a directory"), std::string::npos) << r.output;
+  EXPECT_TRUE(EmptyOrMissing(dir));
   r = StabilityLimit("--packing " + packing_ +
                      " --kn 7e10 --density 2000 --output /proc/specimen_no");
   EXPECT_EQ(r.status, 3) << r.output;
