@@ -29,12 +29,12 @@ std::string FileName(const std::string& path) {
 
 // A run-test scene (lab/lab_scene_file.h) of one verification test.
 void WriteScene(std::ostream& out, const std::string& packing_file, const MaterialParameters& material,
-                const LabTestOptions& test, const char* kind, const std::string& name) {
+                const LabTestOptions& test, const char* kind, const std::string& name, int dimension) {
   out << "# Written by calibrate-to-material " << kVersion << ": the verification " << kind
       << " test with the calibrated parameters.\n# Rerun: run-test " << name << "_scene.toml --output DIR\n\n";
   out << "[specimen]\npacking = \"" << packing_file << "\"\nscale_density = " << (test.scale_density ? "true" : "false")
       << "\n\n";
-  out << MaterialTomlTable(material) << "\n";
+  out << MaterialTomlTable(material, dimension) << "\n";
   out << "[test]\nkind = \"" << kind << "\"\n";
   out << "loading_rate_group = " << Exact(test.loading_rate_group) << "\n";
   if (test.platen_speed_m_per_s > 0) out << "platen_speed = " << Exact(test.platen_speed_m_per_s) << "\n";
@@ -216,7 +216,7 @@ void CheckCalibrationOutputLocation(const CalibrationOutputOptions& options) {
   RequireWritableDirectory(options.directory, "output directory");
 }
 
-std::string MaterialTomlTable(const MaterialParameters& m) {
+std::string MaterialTomlTable(const MaterialParameters& m, int dimension) {
   std::ostringstream out;
   out << "[material]\n";
   out << "normal_stiffness = " << Exact(m.normal_stiffness_n_per_m) << "        # kn [N/m]\n";
@@ -228,8 +228,9 @@ std::string MaterialTomlTable(const MaterialParameters& m) {
   if (m.particle_youngs_modulus_pa) {
     out << "particle_youngs_modulus = " << Exact(*m.particle_youngs_modulus_pa) << "   # Ep [Pa] (DDEM)\n";
     out << "particle_poisson_ratio = " << Exact(m.particle_poisson_ratio) << "\n";
-    out << "plane_model = \"" << (m.plane_model == PlaneModel::kPlaneStrain ? "plane_strain" : "plane_stress")
-        << "\"\n";
+    if (dimension == 2)  // a 2D setting: refused with a 3D specimen
+      out << "plane_model = \"" << (m.plane_model == PlaneModel::kPlaneStrain ? "plane_strain" : "plane_stress")
+          << "\"\n";
   }
   return out.str();
 }
@@ -250,16 +251,16 @@ CalibrationOutputsWritten WriteCalibrationOutputs(const CalibrationSummary& summ
     out << "# Calibrated by calibrate-to-material " << kVersion << " for '" << summary.target.name
         << "'.\n# The [material] table of a run-test scene; " << output.name
         << "_ucs_scene.toml holds a complete one.\n\n"
-        << MaterialTomlTable(summary.material);
+        << MaterialTomlTable(summary.material, Dim);
   });
   group.Add(base + "_ucs.packing", [&](std::ostream& out) { WritePacking<Dim>(specimens.ucs, out); });
   group.Add(base + "_bts.packing", [&](std::ostream& out) { WritePacking<Dim>(specimens.bts, out); });
   group.Add(base + "_ucs_scene.toml", [&](std::ostream& out) {
-    WriteScene(out, FileName(base + "_ucs.packing"), summary.material, options.test, "ucs", output.name + "_ucs");
+    WriteScene(out, FileName(base + "_ucs.packing"), summary.material, options.test, "ucs", output.name + "_ucs", Dim);
   });
   group.Add(base + "_bts_scene.toml", [&](std::ostream& out) {
     WriteScene(out, FileName(base + "_bts.packing"), summary.material, options.test, "brazilian",
-               output.name + "_bts");
+               output.name + "_bts", Dim);
   });
   group.Add(base + "_report.json", [&](std::ostream& out) { out << json_report.dump(2) << "\n"; });
   group.Add(base + "_report.txt", [&](std::ostream& out) { out << text_report; });

@@ -37,8 +37,9 @@ struct CalibrationOutputsWritten {
 // cannot be created or written. Call before long work.
 void CheckCalibrationOutputLocation(const CalibrationOutputOptions& options);
 
-// The [material] table of a run-test scene for `material` (full precision).
-std::string MaterialTomlTable(const MaterialParameters& material);
+// The [material] table of a run-test scene for `material` (full precision); plane_model only
+// in 2D.
+std::string MaterialTomlTable(const MaterialParameters& material, int dimension);
 
 template <int Dim>
 CalibrationOutputsWritten WriteCalibrationOutputs(const CalibrationSummary& summary,

@@ -271,6 +271,7 @@ void ReadMaterial(const toml::table* table, const std::string& source, LabScene*
                      "neither for rigid ones");
   std::string plane;
   if (t.String("plane_model", &plane)) {
+    scene->plane_model_given = true;
     if (plane == "plane_strain")
       m->plane_model = PlaneModel::kPlaneStrain;
     else if (plane == "plane_stress")
@@ -391,6 +392,8 @@ LabScene ParseLabScene(const std::string& toml_text, const std::string& source) 
   ReadSpecimen(root["specimen"].as_table(), source, &scene);
   ReadMaterial(root["material"].as_table(), source, &scene);
   ReadOutput(root["output"].as_table(), source, &scene.output);
+  if (scene.plane_model_given && scene.dimension == 3)
+    throw InputError(source + " [material]: plane_model is a 2D setting; the specimen is 3D");
   if (scene.lattice) {
     if (scene.test.kind != LabTestKind::kUniaxialCompression && scene.test.kind != LabTestKind::kBrazilian)
       throw InputError(source + " [test]: kind = '" + LabTestKindName(scene.test.kind) +

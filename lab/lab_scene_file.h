@@ -78,6 +78,7 @@ struct LabScene {
   LatticeMaterial lattice_material;
   LatticeProtocol lattice_protocol;
   bool platen_zone_given = false;
+  bool plane_model_given = false;  // a 2D setting: refused with a 3D specimen
   LabTestOptions test;
   std::vector<double> confining_stresses_pa;  // biaxial envelope when not empty
   LabOutputOptions output;

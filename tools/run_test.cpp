@@ -83,6 +83,8 @@ int Run(LabScene scene, const CommandLine& cl) {
   // 2. The specimen, checked against the test before the run; then the output location.
   const Packing<Dim> packing = SceneSpecimen<Dim>(scene, cl.quiet);
   if (scene.lattice && Dim != 2) throw InputError(scene.source + ": the lattice model is 2D; the specimen is 3D");
+  if (scene.plane_model_given && Dim == 3)
+    throw InputError(scene.source + " [material]: plane_model is a 2D setting; the specimen is 3D");
   DescribeSpecimen<Dim>(packing, scene.test.kind, scene.test.strain_boundary_margin);
   CheckLabOutputLocation(scene.output);
 

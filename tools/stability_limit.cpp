@@ -168,6 +168,8 @@ int Run(const CommandLine& cl) {
   if (cl.threads < 0)
     throw InputError("--threads = " + std::to_string(cl.threads) +
                      " is not allowed: it must be >= 1 (or 0 for every core)");
+  if (Dim == 3 && values.plane_model)
+    throw InputError("--plane (or [material] plane_model) is a 2D setting; the packing is 3D");
   const Packing<Dim> packing = LoadPacking<Dim>(cl.packing);
   SceneOptions<Dim> scene = StabilitySceneOf<Dim>(values, packing);
   scene.num_threads = cl.threads > 0 ? cl.threads : IdleCores();

@@ -12,6 +12,7 @@
 #include "generator/generate.h"
 #include "lab/lab_envelope.h"
 #include "lab/lab_measurement.h"
+#include "lab/lab_scene_file.h"
 #include "lab/lab_specimen.h"
 #include "lab/lab_test.h"
 
@@ -173,6 +174,24 @@ TEST(LabMohrCoulomb, NeedsTwoDistinctConfinements) {
   ASSERT_TRUE(fit.valid);
   EXPECT_NEAR(fit.friction_angle_deg, 30.0, 1e-9);
   EXPECT_NEAR(fit.cohesion_pa, 1e7, 1e-3);
+}
+
+// A 2D setting on a 3D specimen is refused, not ignored.
+TEST(LabSceneFile, PlaneModelWithA3DSpecimenIsRefused) {
+  const std::string scene =
+      "[specimen]\ndomain = \"box 0 0 0 0.01 0.01 0.01\"\ncount = 500\n[material]\nnormal_stiffness = 1e7\n"
+      "density = 2000\nparticle_youngs_modulus = 1e9\nparticle_poisson_ratio = 0.2\nplane_model = \"plane_strain\"\n"
+      "[test]\nkind = \"ucs\"\n";
+  try {
+    ParseLabScene(scene, "scene.toml");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("plane_model is a 2D setting"), std::string::npos) << e.what();
+  }
+  // Without it the scene is fine.
+  std::string ok = scene;
+  ok.erase(ok.find("plane_model"), std::string("plane_model = \"plane_strain\"\n").size());
+  EXPECT_NO_THROW(ParseLabScene(ok, "scene.toml"));
 }
 
 }  // namespace

@@ -303,4 +303,19 @@ TEST_F(StabilityLimitCommand, FifthSampleRunAnalysesTheLattice) {
   }
 }
 
+// A 2D setting on a 3D packing is refused, not ignored.
+TEST(StabilityLimit3D, PlaneModelIsRefused) {
+  const fs::path dir = FreshDirectory("plane3d");
+  const Result g = Execute(std::string(SPECIMEN_BINARY_DIR) +
+                           "/tools/generate-packing --domain \"box 0 0 0 0.01 0.01 0.01\" --count 200 "
+                           "--no-pictures --quiet --output " + dir.string());
+  ASSERT_EQ(g.status, 0) << g.output;
+  const fs::path out = dir / "out";
+  const Result r = StabilityLimit("--packing " + (dir / "packing.packing").string() +
+                                  " --kn 1e7 --density 2000 --Ep 1e9 --nu-p 0.2 --plane stress --output " + out.string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("2D setting"), std::string::npos) << r.output;
+  EXPECT_TRUE(EmptyOrMissing(out));
+}
+
 }  // namespace
