@@ -47,8 +47,9 @@ def run(command, **kwargs):
 
 
 def sha(path):
+    """Of a packing's content: its created_by line (the program version) left out."""
     with open(path, "rb") as f:
-        return hashlib.sha256(f.read()).hexdigest()
+        return hashlib.sha256(b"".join(l for l in f if not l.startswith(b"created_by "))).hexdigest()
 
 
 def calibrate(build, material, out, name, maps, extra=()):
