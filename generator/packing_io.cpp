@@ -1,6 +1,7 @@
 #include "generator/packing_io.h"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <climits>
 #include <cmath>
@@ -445,6 +446,36 @@ Packing<Dim> ReadPacking(std::istream& in, const std::string& source_name) {
   }
   return packing;
 }
+
+template <int Dim>
+void CheckPackingGeometry(const Packing<Dim>& packing, const std::string& source) {
+  const double extent = packing.domain.SmallestExtent();
+  for (int i = 0; i < packing.size(); ++i) {
+    const double inside = packing.domain.SignedDistance(packing.centres[i]);
+    if (inside < -1e-9 * extent)
+      throw InputError(source + ": particle " + std::to_string(i + 1) + " lies " + ExactDouble(-inside) +
+                       " outside the domain " + packing.domain.ToShortText());
+    if (packing.radii[i] > 0.5 * extent)
+      throw InputError(source + ": particle " + std::to_string(i + 1) + " has radius " + ExactDouble(packing.radii[i]) +
+                       ", larger than half the domain's smallest extent " + ExactDouble(extent));
+  }
+  // Two particles at one centre make every contact direction between them undefined.
+  std::vector<int> order(packing.centres.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  auto key = [&](int i) {
+    std::array<double, Dim> k{};
+    for (int d = 0; d < Dim; ++d) k[d] = packing.centres[i][d];
+    return k;
+  };
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
+  for (size_t k = 1; k < order.size(); ++k)
+    if (key(order[k]) == key(order[k - 1]))
+      throw InputError(source + ": particles " + std::to_string(std::min(order[k], order[k - 1]) + 1) + " and " +
+                       std::to_string(std::max(order[k], order[k - 1]) + 1) + " have the same centre");
+}
+
+template void CheckPackingGeometry<2>(const Packing<2>&, const std::string&);
+template void CheckPackingGeometry<3>(const Packing<3>&, const std::string&);
 
 int ReadPackingDimension(const std::string& path) {
   std::error_code error;

@@ -55,6 +55,12 @@ Packing<Dim> ReadPacking(std::istream& in, const std::string& source_name);
 int ReadPackingDimension(const std::string& path);
 
 // Writes `path` atomically (temporary file + rename): an error leaves no file behind.
+// Throws InputError (naming `source` and the particle) for what a packing file can state but
+// no specimen is: a centre outside the domain, a radius above half its smallest extent, two
+// particles at one centre. The commands call it on every packing they read.
+template <int Dim>
+void CheckPackingGeometry(const Packing<Dim>& packing, const std::string& source);
+
 template <int Dim>
 void SavePacking(const Packing<Dim>& packing, const std::string& path);
 

@@ -113,6 +113,8 @@ int Run(const TargetMaterial& target, CalibrationOptions options, const CommandL
       if (cl.bts_packing.empty()) throw InputError("--packing needs --bts-packing (the Brazilian disc) as well");
       Packing<Dim> ucs = LoadPacking<Dim>(cl.packing);
       Packing<Dim> bts = LoadPacking<Dim>(cl.bts_packing);
+      CheckPackingGeometry<Dim>(ucs, cl.packing);
+      CheckPackingGeometry<Dim>(bts, cl.bts_packing);
       // Checked against their tests before any map sweep (a refused run leaves nothing).
       DescribeSpecimen<Dim>(ucs, LabTestKind::kUniaxialCompression, options.test.strain_boundary_margin);
       DescribeSpecimen<Dim>(bts, LabTestKind::kBrazilian, options.test.strain_boundary_margin);
@@ -172,6 +174,8 @@ int RunLattice(const TargetMaterial& target, const CommandLine& cl) {
     if (cl.bts_packing.empty()) throw InputError("--packing needs --bts-packing (the Brazilian disc) as well");
     ucs = LoadPacking<2>(cl.packing);
     bts = LoadPacking<2>(cl.bts_packing);
+    CheckPackingGeometry<2>(ucs, cl.packing);
+    CheckPackingGeometry<2>(bts, cl.bts_packing);
     CheckSpecimenShape<2>(ucs.domain, LabTestKind::kUniaxialCompression);
     CheckSpecimenShape<2>(bts.domain, LabTestKind::kBrazilian);
     description = "UCS " + cl.packing + ", Brazilian " + cl.bts_packing;

@@ -50,7 +50,11 @@ struct CommandLine {
 
 template <int Dim>
 Packing<Dim> SceneSpecimen(const LabScene& scene, bool quiet) {
-  if (!scene.packing_path.empty()) return LoadPacking<Dim>(scene.packing_path);
+  if (!scene.packing_path.empty()) {
+    Packing<Dim> packing = LoadPacking<Dim>(scene.packing_path);
+    CheckPackingGeometry<Dim>(packing, scene.packing_path);
+    return packing;
+  }
   GeneratorOptions options = DefaultGeneratorOptions<Dim>();
   options.particle_count = scene.particle_count;
   options.mean_radius = scene.mean_radius_m;

@@ -171,6 +171,7 @@ int Run(const CommandLine& cl) {
   if (Dim == 3 && values.plane_model)
     throw InputError("--plane (or [material] plane_model) is a 2D setting; the packing is 3D");
   const Packing<Dim> packing = LoadPacking<Dim>(cl.packing);
+  CheckPackingGeometry<Dim>(packing, cl.packing);
   SceneOptions<Dim> scene = StabilitySceneOf<Dim>(values, packing);
   scene.num_threads = cl.threads > 0 ? cl.threads : IdleCores();
   StabilityOptions options = StabilityOptionsOf(values);
@@ -267,6 +268,7 @@ int RunLattice(const CommandLine& cl) {
     throw InputError("--name '" + cl.name + "' is not allowed: a non-empty file name without '/'");
   const PlaneElasticity d = IsotropicPlaneElasticity(*cl.lattice_youngs, *cl.lattice_poisson, plane);
   const Packing<2> packing = LoadPacking<2>(cl.packing);
+  CheckPackingGeometry<2>(packing, cl.packing);
   EnsureDirectory(cl.output, "output directory");
 
   PackingLatticeSummary built;

@@ -304,6 +304,24 @@ TEST(PackingIoErrors, ParticleNumbers) {
   ExpectReadError(WithLine(11, "0.5 0.75 -0"), {"line 11", "radius"});
 }
 
+// What a file can state but no specimen is: refused by CheckPackingGeometry, which the
+// commands call (the reader itself round-trips any finite numbers).
+TEST(PackingIoErrors, GeometryNoSpecimenHas) {
+  auto expect = [](const std::string& text, const std::string& fragment) {
+    const Packing<2> packing = ReadFromString<2>(text);
+    try {
+      CheckPackingGeometry<2>(packing, "test.packing");
+      ADD_FAILURE() << "accepted:\n" << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  expect(WithLine(11, "5 0.75 0.1"), "particle 3 lies");
+  expect(WithLine(11, "0.5 0.75 0.9"), "larger than half the domain");
+  expect(WithLine(11, "0.25 0.25 0.1"), "particles 1 and 3 have the same centre");
+  EXPECT_NO_THROW(CheckPackingGeometry<2>(ReadFromString<2>(Join(kValidLines)), "test.packing"));
+}
+
 TEST(PackingIoErrors, Contacts) {
   ExpectReadError(WithLine(14, "0 3"), {"line 14", "out of range", "3 particles"});
   ExpectReadError(WithLine(14, "-1 2"), {"line 14", "negative"});

@@ -319,3 +319,31 @@ TEST(StabilityLimit3D, PlaneModelIsRefused) {
 }
 
 }  // namespace
+
+namespace {
+
+// A particle outside the domain or two at one centre: refused before any analysis (they were
+// judged "stable", and run-test diverged on them naming no cause).
+TEST(StabilityLimitGeometry, NonsensePackingsAreRefused) {
+  const fs::path dir = FreshDirectory("geometry");
+  fs::create_directories(dir);
+  const char* header = "# specimen-packing 1\ndimension 2\ndomain rectangle 0 0 0.01 0.01\ncreated_by test\nseed 1\n"
+                       "contact_tolerance 0.02\nparticles 3\n";
+  const struct {
+    const char* particles;
+    const char* words;
+  } cases[] = {{"0.002 0.002 0.001\n0.005 0.002 0.001\n5 0.005 0.001\n", "outside the domain"},
+               {"0.002 0.002 0.001\n0.005 0.002 0.001\n0.002 0.002 0.001\n", "the same centre"}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.words);
+    const fs::path file = dir / "bad.packing";
+    std::ofstream(file) << header << c.particles << "contacts 0\n";
+    const Result r = StabilityLimit("--packing " + file.string() + " --kn 1e9 --density 2000 --output " +
+                                    (dir / "out").string());
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find(c.words), std::string::npos) << r.output;
+    EXPECT_TRUE(EmptyOrMissing(dir / "out"));
+  }
+}
+
+}  // namespace
