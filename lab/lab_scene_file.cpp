@@ -395,9 +395,10 @@ LabScene ParseLabScene(const std::string& toml_text, const std::string& source) 
   if (scene.plane_model_given && scene.dimension == 3)
     throw InputError(source + " [material]: plane_model is a 2D setting; the specimen is 3D");
   if (scene.lattice) {
-    if (scene.test.kind != LabTestKind::kUniaxialCompression && scene.test.kind != LabTestKind::kBrazilian)
+    if (scene.test.kind != LabTestKind::kUniaxialCompression && scene.test.kind != LabTestKind::kBrazilian &&
+        scene.test.kind != LabTestKind::kConfinedCompression)
       throw InputError(source + " [test]: kind = '" + LabTestKindName(scene.test.kind) +
-                       "': the lattice model runs the ucs and brazilian tests");
+                       "': the lattice model runs the ucs, biaxial and brazilian tests");
     if (scene.dimension == 3) throw InputError(source + ": the lattice model is 2D; the specimen is 3D");
     if (scene.test.scale_density)
       throw InputError(source + " [specimen]: scale_density is for bonded particles; a lattice fills the specimen "
@@ -405,7 +406,7 @@ LabScene ParseLabScene(const std::string& toml_text, const std::string& source) 
     // Settings of the bonded tests that the lattice tests do not use: refused, not ignored.
     static const std::set<std::string> bonded_only = {
         "pause_kinetic_energy_ratio", "max_pause_transits", "pause_on_breakage", "pause_ramp_transits",
-        "strain_boundary_margin", "confining_stress", "confining_stresses", "servo_gain_fraction",
+        "strain_boundary_margin", "confining_stresses", "servo_gain_fraction",
         "servo_integral_transits", "consolidation_tolerance", "platen_stiffness_ratio", "platen_friction",
         "dashpot_ratio", "mass_scaling", "quasi_static_check", "quasi_static_tolerance"};
     if (const toml::table* test = root["test"].as_table())

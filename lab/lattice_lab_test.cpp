@@ -34,7 +34,10 @@ Supports RectangleSupports(const PackingLattice& p, const Domain<2>& domain) {
     if (top) s.top.push_back(i);
     if (x.x() < lo.x() + tol) s.left.push_back(i);
     if (x.x() > hi.x() - tol) s.right.push_back(i);
-    if (bottom && (corner < 0 || x.x() < p.nodes[corner].x())) corner = i;
+    // The bottom node nearest the middle is held in x: the sides then move apart
+    // symmetrically (a held corner would take the confinement's transient on one side).
+    const double middle = 0.5 * (lo.x() + hi.x());
+    if (bottom && (corner < 0 || std::abs(x.x() - middle) < std::abs(p.nodes[corner].x() - middle))) corner = i;
   }
   if (s.top.empty() || s.bottom.empty() || s.left.empty() || s.right.empty() || corner < 0)
     throw InputError("the lattice specimen has no surface nodes on a side of its rectangle");
@@ -152,13 +155,17 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
   if (!options.IsValid(&error)) throw InputError(error);
   if (!protocol.IsValid(&error)) throw InputError(error);
   if (!material.IsValid(&error)) throw InputError(error);
-  const bool ucs = options.kind == LabTestKind::kUniaxialCompression;
+  // `ucs`: a rectangle between platens, unconfined or (confined) with the confining stress
+  // on its sides; else the Brazilian disc.
+  const bool confined = options.kind == LabTestKind::kConfinedCompression;
+  const bool ucs = options.kind == LabTestKind::kUniaxialCompression || confined;
   if (!ucs && options.kind != LabTestKind::kBrazilian)
     throw InputError(std::string("test kind '") + LabTestKindName(options.kind) +
-                     "': the lattice model runs the ucs and brazilian tests");
+                     "': the lattice model runs the ucs, biaxial and brazilian tests");
   const Domain<2>& domain = packing.domain;
   if (ucs && domain.shape() != DomainShape::kRectangle)
-    throw InputError("the lattice UCS needs a rectangle specimen, not a " + domain.ShapeName());
+    throw InputError(std::string("the lattice ") + LabTestKindName(options.kind) +
+                     " test needs a rectangle specimen, not a " + domain.ShapeName());
   if (!ucs && domain.shape() != DomainShape::kDisc)
     throw InputError("the lattice Brazilian test needs a disc specimen, not a " + domain.ShapeName());
   const auto start = std::chrono::steady_clock::now();
@@ -253,16 +260,36 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
   int peak_index = -1;
 
   const EdgeMap edges = options.record_snapshots ? ParticleEdges(specimen) : EdgeMap{};
+  // Confined: sigma_3 on the side surface nodes, as forces over each node's share of its side
+  // (half the distance to its neighbours along it), raised over one ramp before the platens
+  // move (consolidation), then held.
+  const double sigma_3 = confined ? options.confining_stress_pa : 0.0;
+  const double consolidation = confined ? ramp : 0.0;
+  std::vector<std::pair<int, double>> side_load;  // node, x force at full sigma_3
+  if (confined) {
+    for (const std::vector<int>* side : {&supports.left, &supports.right}) {
+      std::vector<int> nodes = *side;
+      std::sort(nodes.begin(), nodes.end(),
+                [&](int a, int b) { return specimen.nodes[a].y() < specimen.nodes[b].y(); });
+      const double sign = side == &supports.left ? 1.0 : -1.0;  // inwards
+      for (size_t k = 0; k < nodes.size(); ++k) {
+        const double below = k > 0 ? specimen.nodes[nodes[k - 1]].y() : specimen.nodes[nodes[k]].y();
+        const double above = k + 1 < nodes.size() ? specimen.nodes[nodes[k + 1]].y() : specimen.nodes[nodes[k]].y();
+        side_load.push_back({nodes[k], sign * sigma_3 * 0.5 * (above - below) * lattice.thickness_m});
+      }
+    }
+  }
   const long max_steps =
-      static_cast<long>(std::ceil((strain_limit * height / 2.0 + speed * ramp) / (speed * dt))) + 10;
+      static_cast<long>(std::ceil((strain_limit * height / 2.0 + speed * ramp + speed * consolidation) / (speed * dt))) +
+      10;
   // The energy audit: triangles' V sigma:eps / 2 (particle_elastic), the Brazilian platens'
   // penalty (contact_elastic), the platens' work, local damping, and the energy of each
   // triangle at the step it failed (breakage_release).
   EnergyBalance audit;
   long step = 0;
   for (; step < max_steps; ++step) {
-    const double t = step * dt;
-    const double advance = dt * speed * std::min(1.0, ramp > 0.0 ? t / ramp : 1.0);
+    const double t = step * dt, loading = t - consolidation;
+    const double advance = loading <= 0.0 ? 0.0 : dt * speed * std::min(1.0, ramp > 0.0 ? loading / ramp : 1.0);
     travel += advance;
     std::fill(f.begin(), f.end(), Vector<2>::Zero());
     double elastic = 0.0, platen_elastic = 0.0;
@@ -327,6 +354,14 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
         }
       }
     }
+    // Confinement, and its work on the side nodes.
+    if (confined) {
+      const double share = consolidation > 0.0 ? std::min(1.0, t / consolidation) : 1.0;
+      for (const auto& [i, force] : side_load) {
+        f[i].x() += share * force;
+        audit.wall_work_j += share * force * v[i].x() * dt;
+      }
+    }
     // Damped central differences (local damping: alpha |F| against the velocity).
     for (int i = 0; i < n; ++i) {
       if (!(mass[i] > 0.0)) continue;
@@ -371,7 +406,7 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
     point.platen_force_n = 0.5 * (force_top + force_bottom);
     point.axial_stress_pa = -mean.stress[1];
     point.lateral_stress_pa = -mean.stress[0];
-    point.control = ucs ? point.platen_force_n / width : point.platen_force_n;
+    point.control = ucs ? point.platen_force_n / width - sigma_3 : point.platen_force_n;  // deviator when confined
     point.broken_in_tension = broken_tension;
     point.broken_in_shear = broken_shear;
     double kinetic = 0.0;
@@ -383,7 +418,7 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
     point.dissipated_j = audit.Dissipated();
     result.curve.push_back(point);
     // The peak after the ramp (the first contact of the platens rings during it).
-    if (t > ramp && point.control > peak) {
+    if (t > ramp + consolidation && point.control > peak) {
       peak = point.control;
       peak_index = static_cast<int>(result.curve.size()) - 1;
       if (options.record_snapshots) result.peak_snapshot = Snapshot("peak", t, specimen, edges, u, failure);
@@ -431,7 +466,8 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
     result.strain_at_peak = -at.strain(1, 1);
     result.boundary_strain_at_peak = at.boundary_strain;
     if (ucs) {
-      result.peak_stress_pa = at.control;
+      result.peak_stress_pa = at.control + sigma_3;  // sigma_1
+      result.confining_stress_pa = sigma_3;
       result.elastic = SecantElasticConstants<2>(result.curve, found, 1, options.modulus_window_low,
                                                  options.modulus_window_high);
       result.linear_elastic = LinearPortionElasticConstants<2>(result.curve, 1, options.linear_portion_low);

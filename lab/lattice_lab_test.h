@@ -1,5 +1,5 @@
 #pragma once
-// The UCS and Brazilian tests on a six-spring lattice specimen (Kacianauskas & Vadluga 2009):
+// The UCS, biaxial and Brazilian tests on a six-spring lattice specimen (Kacianauskas & Vadluga 2009):
 // the lattice of a generated 2D packing (solver/lattice_packing.h: Delaunay triangles of the
 // centres plus surface nodes on the domain's sides), central differences with row-sum lumped
 // masses at a fraction of the certified critical step (solver/lattice_stability.h), local
@@ -11,12 +11,16 @@
 //   m.elasticity = IsotropicPlaneElasticity(30e9, 0.25, PlaneModel::kPlaneStrain);
 //   m.density_kg_per_m3 = 2650;
 //   m.strength = {8e6, 30e6, 30.0};
-//   LabTestResult r = RunLatticeLabTest(packing, m, options);  // options.kind: UCS or BTS
+//   LabTestResult r = RunLatticeLabTest(packing, m, options);  // options.kind: UCS, biaxial or BTS
 //
 // The tests (docs/sources.md, "The lattice in the laboratory"):
 //  - UCS: a rectangle between two rigid frictionless platens. The surface nodes on the top
 //    and bottom sides move with their platen (each at V towards the other; free along x, the
-//    bottom-left corner held in x), so the platens are glued in the loading direction only.
+//    bottom node nearest the middle held in x), so the platens are glued in the loading
+//    direction only.
+//  - Biaxial (kConfinedCompression): the same, with sigma_3 on the side surface nodes (each
+//    node's share of its side), raised over one velocity ramp before the platens move. The
+//    control is the deviator; peak_stress_pa is sigma_1.
 //    Control: the mean platen force over the width. Stress and strain: the area averages of
 //    the triangles' (exact for a lattice, which fills the rectangle).
 //  - Brazilian: a disc between two flat frictionless platens normal to y, in contact with its
@@ -26,7 +30,7 @@
 // V = loading_rate_group x sqrt(d22 / rho) (half the axial strain added per wave transit
 // H / c), ramped over velocity_ramp_transits; no quasi-static holds (constant speed). The test
 // stops once the control has fallen to post_peak_stress_fraction of its peak, or at the
-// strain limit (0: 0.02). The other kinds are refused (InputError).
+// strain limit (0: 0.02). The isotropic and shear tests are refused (InputError).
 
 #include <string>
 

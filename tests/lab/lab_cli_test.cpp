@@ -255,7 +255,8 @@ TEST_F(RunTestCommand, LatticeBadInputWritesNothing) {
   const struct {
     std::string material, test, words;
   } cases[] = {
-      {kLatticeMaterial, "kind = \"biaxial\"\nconfining_stress = 1e6\n", "ucs and brazilian"},
+      {kLatticeMaterial, "kind = \"isotropic\"\n", "ucs, biaxial and brazilian"},
+      {kLatticeMaterial, "kind = \"biaxial\"\nconfining_stresses = [1e6, 2e6]\n", "confining_stresses"},
       {kLatticeMaterial, "kind = \"ucs\"\npause_on_breakage = false\n", "pause_on_breakage"},
       {kLatticeMaterial, "kind = \"ucs\"\nplaten_zone = 0.5\n", "platen_zone"},
       {"youngs_modulus = 30e9\npoisson_ratio = 0.25\ntensile_strength = 8e6\ndensity = 2650\n", "kind = \"ucs\"\n",

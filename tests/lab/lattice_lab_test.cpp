@@ -108,10 +108,37 @@ TEST(LatticeLab, BrazilianSplitsInTension) {
   EXPECT_LT(RunLatticeLabTest(Disc(), m, options, bare).tensile_strength_pa, 0.7 * r.tensile_strength_pa);
 }
 
+// The confined (biaxial) test: sigma_3 on the sides, then the platens. The linear portion
+// returns the input E and nu; the peak sigma_1 approaches the triangles' Mohr-Coulomb envelope
+// sigma_1 = sigma_3 (1 + sin phi) / (1 - sin phi) + 2 c cos phi / (1 - sin phi), the stress
+// being homogeneous up to the inertia of the loading.
+TEST(LatticeLab, BiaxialFollowsTheTrianglesEnvelope) {
+  LatticeMaterial m = Material(0.25);
+  LabTestOptions options;
+  options.kind = LabTestKind::kConfinedCompression;
+  options.confining_stress_pa = 10e6;
+  options.sample_interval_steps = 20;
+  options.loading_rate_group = 1e-5;
+  const LabTestResult r = RunLatticeLabTest(Square(), m, options);
+  ASSERT_TRUE(r.peak_reached) << r.termination_message;
+  const double phi = m.strength.friction_angle_deg * kPi / 180.0;
+  const double envelope =
+      (options.confining_stress_pa * (1.0 + std::sin(phi)) + 2.0 * m.strength.cohesion_pa * std::cos(phi)) /
+      (1.0 - std::sin(phi));
+  EXPECT_NEAR(r.peak_stress_pa / envelope, 1.0, 0.03);
+  EXPECT_LE(r.peak_stress_pa, envelope * 1.001);
+  EXPECT_DOUBLE_EQ(r.confining_stress_pa, 10e6);
+  ASSERT_TRUE(r.linear_elastic.measured);
+  EXPECT_NEAR(r.linear_elastic.youngs_modulus_pa / 30e9, 1.0, 0.015);
+  EXPECT_NEAR(r.linear_elastic.poisson_ratio, 0.25, 0.015 * 0.25);
+}
+
 TEST(LatticeLab, BadInputIsRefused) {
   LabTestOptions options;
   options.kind = LabTestKind::kPureShear;
   EXPECT_THROW(RunLatticeLabTest(Square(), Material(0.2), options), InputError);
+  options.kind = LabTestKind::kConfinedCompression;
+  EXPECT_THROW(RunLatticeLabTest(Disc(), Material(0.2), options), InputError);  // not a rectangle
   options.kind = LabTestKind::kBrazilian;
   EXPECT_THROW(RunLatticeLabTest(Square(), Material(0.2), options), InputError);  // not a disc
   LatticeMaterial bad = Material(0.2);
