@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Benchmark of the six-spring lattice model (run-test, model = "lattice"): E and nu of the
-linear portion of a UCS against the input, for nu from 0 to 0.45 (plane strain), the moduli
+linear portion of a UCS against the input, for nu from 0 to 0.45 (plane strain), of a biaxial
+test at sigma_3 10 MPa, the moduli
 of an orthotropic material along both axes and at 45 degrees, and the speed against the
 bonded rigid-particle law on the same packing. Prints the tables and writes them to
 OUT/lattice_bench.md, with lattice_bench.csv.
@@ -103,6 +104,25 @@ def main():
         emit("| %.2f | %.3f GPa | %+.2f %% | %.4f | %+.4f (%s) |" % (
             nu, lin["youngs_modulus_pa"] / 1e9, 100 * e_err, lin["poisson_ratio"], nu_err,
             "%+.2f %%" % (100 * nu_err / nu) if nu > 0 else "absolute"))
+
+    emit()
+    emit("## Biaxial, plane strain (E %.0f GPa, sigma_3 10 MPa)" % (E / 1e9))
+    emit()
+    emit("sigma_3 on the side surface nodes, then the platens; E, nu of the linear portion of sigma_1 against the")
+    emit("axial strain (the deviator rising at constant sigma_3).")
+    emit()
+    emit("| nu input | E measured | E error | nu measured | nu error |")
+    emit("|---|---|---|---|---|")
+    for nu in (0.1, 0.25, 0.4):
+        r = run_test(build, out, "biax_%g" % nu, packing,
+                     ['model = "lattice"', "youngs_modulus = %r" % E, "poisson_ratio = %r" % nu] + strong,
+                     ['kind = "biaxial"', "confining_stress = 10e6", "strain_limit = 1e-3"])
+        lin = r["linear_elastic"]
+        rows.append({"case": "biaxial nu %g" % nu, "expected_youngs_pa": E, "youngs_pa": lin["youngs_modulus_pa"],
+                     "expected_poisson": nu, "poisson": lin["poisson_ratio"]})
+        emit("| %.2f | %.3f GPa | %+.2f %% | %.4f | %+.4f (%+.2f %%) |" % (
+            nu, lin["youngs_modulus_pa"] / 1e9, 100 * (lin["youngs_modulus_pa"] / E - 1.0), lin["poisson_ratio"],
+            lin["poisson_ratio"] - nu, 100 * (lin["poisson_ratio"] - nu) / nu))
 
     e1, e2, nu12, g12 = 60e9, 20e9, 0.25, 12e9
     emit()
