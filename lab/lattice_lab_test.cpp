@@ -286,6 +286,11 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
   // penalty (contact_elastic), the platens' work, local damping, and the energy of each
   // triangle at the step it failed (breakage_release).
   EnergyBalance audit;
+  auto kinetic_energy = [&]() {
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i) sum += 0.5 * mass[i] * v[i].squaredNorm();
+    return sum;
+  };
   long step = 0;
   for (; step < max_steps; ++step) {
     const double t = step * dt, loading = t - consolidation;
@@ -409,10 +414,7 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
     point.control = ucs ? point.platen_force_n / width - sigma_3 : point.platen_force_n;  // deviator when confined
     point.broken_in_tension = broken_tension;
     point.broken_in_shear = broken_shear;
-    double kinetic = 0.0;
-    for (int i = 0; i < n; ++i) kinetic += 0.5 * mass[i] * v[i].squaredNorm();
-    point.kinetic_energy_j = kinetic;
-    audit.kinetic_j = kinetic;
+    audit.kinetic_j = point.kinetic_energy_j = kinetic_energy();
     point.elastic_energy_j = audit.Elastic();
     point.external_work_j = audit.ExternalWork();
     point.dissipated_j = audit.Dissipated();
@@ -438,11 +440,7 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
   if (options.record_snapshots) result.end_snapshot = Snapshot("end", step * dt, specimen, edges, u, failure);
   result.broken_in_tension = broken_tension;
   result.broken_in_shear = broken_shear;
-  {
-    double kinetic = 0.0;
-    for (int i = 0; i < n; ++i) kinetic += 0.5 * mass[i] * v[i].squaredNorm();
-    audit.kinetic_j = kinetic;
-  }
+  audit.kinetic_j = kinetic_energy();
   result.energy = audit;
   // The peak after the ramp (FindPeak over the whole curve would take the ringing of the
   // first contact for it).

@@ -55,14 +55,12 @@ struct LatticeProtocol {
   // elastic, in [0, 0.3]. A flat platen loads the lattice at a node, where the discrete
   // stress of the few triangles around it exceeds any strength long before the centre of the
   // disc splits; the rock under a real platen or ISRM jaw is confined and does not fail
-  // there. Measured, 800-disc lattice, sigma_t 8 MPa, c 25 MPa, phi 30 degrees: sigma_t of the
-  // test 2.1 MPa with no elastic zone, 3.3, 5.2 and 6.5 MPa with 0.05, 0.1 and 0.15 D.
+  // there (the test's strength against the zone: docs/sources.md, "The lattice in the
+  // laboratory").
   double platen_zone_share = 0.1;
   // Local damping alpha of the nodes, in [0, 1) (replaces LabTestOptions::local_damping, the
   // bonded tests' 0.7). Damping that holds back every node also holds back the free sides'
-  // lateral expansion: measured, 5,000-disc UCS at nu 0.25, rate group 5e-5, the linear
-  // portion's nu 0.2407 at 0.7 and 0.2519 at 0.2 (E +0.8 % and -0.4 %); with none, the UCS
-  // falls from 91.7 to 57.3 MPa (undamped waves).
+  // lateral expansion, and none lets waves break the specimen early (docs/sources.md).
   double local_damping = 0.4;
 
   // Names the first invalid field and its range.
