@@ -210,8 +210,8 @@ std::string ConvergenceScript(const CalibrationSummary& summary, const Calibrati
 }  // namespace
 
 void CheckCalibrationOutputLocation(const CalibrationOutputOptions& options) {
-  if (options.name.empty() || options.name.find('/') != std::string::npos)
-    throw InputError("output name '" + options.name + "' is not allowed: it must be a non-empty file name without '/'");
+  if (std::string rule; !IsValidOutputName(options.name, &rule))
+    throw InputError("output name '" + options.name + "' is not allowed: " + rule);
   EnsureDirectory(options.directory, "output directory");
   RequireWritableDirectory(options.directory, "output directory");
 }

@@ -4,12 +4,29 @@
 #include <chrono>
 #include <future>
 #include <limits>
+#include <sstream>
 #include <thread>
 
 #include "calibrate/map_sweep.h"
 #include "common/error.h"
 
 namespace specimen {
+
+namespace {
+
+// Every user input is checked before the calibration starts: a run the solver refuses at
+// micro parameters the calibration chose is the calibration's own failure (status 4, not 2).
+[[noreturn]] void RethrowAsOwnFailure(const InputError& e, double kn, const MicroRatios& r) {
+  std::ostringstream at;
+  at.precision(4);
+  at << "kn " << kn << " N/m, kt/kn " << r.tangential_to_normal_stiffness << ", Rt/Rn " << r.shear_to_tensile_strength;
+  if (r.normal_stiffness_to_particle > 0.0)
+    at << ", kn/(Ep l) " << r.normal_stiffness_to_particle << ", nu_p " << r.particle_poisson_ratio;
+  throw ComputationError("the calibration chose micro parameters the solver refuses (" + at.str() + "): " +
+                         e.what() + "; this is a failure of the calibration, not of the input");
+}
+
+}  // namespace
 
 template <int Dim>
 LabForwardModel<Dim>::LabForwardModel(const Packing<Dim>& ucs, const Packing<Dim>& bts,
@@ -36,7 +53,11 @@ std::vector<ElasticMeasurement> LabForwardModel<Dim>::MeasureElastic(const std::
       if (k >= queries.size()) return;
       try {
         const MaterialParameters m = MaterialFor(queries[k].normal_stiffness, 1.0, queries[k].ratios);
-        out[k] = MeasureIntactElasticConstants<Dim>(ucs_, m, settings_.protocol);
+        try {
+          out[k] = MeasureIntactElasticConstants<Dim>(ucs_, m, settings_.protocol);
+        } catch (const InputError& e) {
+          RethrowAsOwnFailure(e, queries[k].normal_stiffness, queries[k].ratios);
+        }
       } catch (...) {
         std::lock_guard<std::mutex> lock(mutex);
         if (!failure) failure = std::current_exception();
@@ -68,9 +89,13 @@ StrengthMeasurement LabForwardModel<Dim>::MeasureStrength(double kn, double rn, 
   ucs_test.kind = LabTestKind::kUniaxialCompression;
   bts_test.kind = LabTestKind::kBrazilian;
   if (settings_.progress) ucs_test.progress = [&](double f, const std::string& m) { settings_.progress(f, "UCS: " + m); };
-  auto bts = std::async(std::launch::async, [&]() { return RunLabTest<Dim>(bts_, tests.material, bts_test); });
-  tests.ucs = RunLabTest<Dim>(ucs_, tests.material, ucs_test);
-  tests.bts = bts.get();
+  try {
+    auto bts = std::async(std::launch::async, [&]() { return RunLabTest<Dim>(bts_, tests.material, bts_test); });
+    tests.ucs = RunLabTest<Dim>(ucs_, tests.material, ucs_test);
+    tests.bts = bts.get();
+  } catch (const InputError& e) {
+    RethrowAsOwnFailure(e, kn, ratios);
+  }
   if (!tests.ucs.peak_reached || !tests.bts.peak_reached)
     throw ComputationError(std::string("the ") + (!tests.ucs.peak_reached ? "UCS" : "Brazilian") +
                            " test reached its strain limit without a peak");

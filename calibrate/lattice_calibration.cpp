@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/format.h"
 
 namespace specimen {
 namespace {
@@ -29,7 +30,7 @@ bool LatticeCalibrationOptions::IsValid(std::string* error) const {
                                     {"tolerance_ucs", tolerance_ucs},
                                     {"tolerance_tensile", tolerance_tensile}})
     if (!(value > 0.0 && value < 1.0)) {
-      *error = std::string(name) + " = " + std::to_string(value) + ": must be in (0, 1)";
+      *error = std::string(name) + " = " + Number(value) + ": must be in (0, 1)";
       return false;
     }
   if (max_rounds < 1 || max_rounds > 20) {
@@ -45,7 +46,7 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
   if (!options.IsValid(&error)) throw InputError(error);
   if (!target.IsValid(&error)) throw InputError(error);
   if (!(target.poisson_ratio > -1.0 && target.poisson_ratio < 0.5))
-    throw InputError("poisson_ratio = " + std::to_string(target.poisson_ratio) +
+    throw InputError("poisson_ratio = " + Number(target.poisson_ratio) +
                      ": the plane-strain lattice needs nu in (-1, 0.5)");
   if (ucs.domain.shape() != DomainShape::kRectangle)
     throw InputError("the lattice UCS specimen must be a rectangle, not a " + ucs.domain.ShapeName());
@@ -56,12 +57,17 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
   summary.target = target;
   summary.friction_angle_deg = target.friction_angle_deg.value_or(30.0);
   if (summary.friction_angle_deg > 60.0)
-    throw InputError("friction_angle = " + std::to_string(summary.friction_angle_deg) +
+    throw InputError("friction_angle = " + Number(summary.friction_angle_deg) +
                      ": the lattice's Mohr-Coulomb limit takes at most 60 degrees");
   summary.ucs_particles = ucs.size();
   summary.bts_particles = bts.size();
   LatticeMaterial material;
-  material.elasticity = IsotropicPlaneElasticity(target.youngs_modulus_pa, target.poisson_ratio, PlaneModel::kPlaneStrain);
+  // D in closed form: the target's own constants (the orthotropic ones where given; E and nu
+  // are then the apparent constants along y that the UCS checks).
+  material.elasticity = target.orthotropic
+                            ? OrthotropicPlaneElasticity(*target.orthotropic, PlaneModel::kPlaneStrain)
+                            : IsotropicPlaneElasticity(target.youngs_modulus_pa, target.poisson_ratio,
+                                                       PlaneModel::kPlaneStrain);
   material.density_kg_per_m3 = target.density_kg_per_m3;
   const double phi = summary.friction_angle_deg * kPi / 180.0;
   // ln of (c, sigma_t of the triangles): the UCS's closed form and the target's sigma_t.
@@ -156,8 +162,19 @@ std::string LatticeCalibrationSummary::MaterialToml() const {
   std::ostringstream out;
   out.precision(10);
   const LatticeCalibrationRound& b = rounds[best_round - 1];
-  out << "[material]\nmodel = \"lattice\"\nyoungs_modulus = " << target.youngs_modulus_pa
-      << "\npoisson_ratio = " << target.poisson_ratio << "\nplane_model = \"plane_strain\"\ntensile_strength = "
+  out << "[material]\nmodel = \"lattice\"\n";
+  if (target.orthotropic) {
+    const OrthotropicConstants& o = *target.orthotropic;
+    out << "youngs_modulus_1 = " << o.youngs_modulus_1_pa << "\nyoungs_modulus_2 = " << o.youngs_modulus_2_pa
+        << "\npoisson_ratio_12 = " << o.poisson_ratio_12 << "\nshear_modulus_12 = " << o.shear_modulus_12_pa
+        << "\naxis_angle = " << o.axis_angle_rad * 180.0 / kPi << "\n";
+    if (o.youngs_modulus_3_pa > 0.0)
+      out << "youngs_modulus_3 = " << o.youngs_modulus_3_pa << "\npoisson_ratio_13 = " << o.poisson_ratio_13
+          << "\npoisson_ratio_23 = " << o.poisson_ratio_23 << "\n";
+  } else {
+    out << "youngs_modulus = " << target.youngs_modulus_pa << "\npoisson_ratio = " << target.poisson_ratio << "\n";
+  }
+  out << "plane_model = \"plane_strain\"\ntensile_strength = "
       << b.tensile_strength_pa << "\ncohesion = " << b.cohesion_pa << "\nfriction_angle = " << friction_angle_deg
       << "\ndensity = " << target.density_kg_per_m3 << "\n";
   return out.str();
@@ -169,7 +186,17 @@ std::string LatticeCalibrationSummary::FullReport() const {
   out << "Calibration of the six-spring lattice (2D, plane strain) to '" << target.name << "'\n";
   std::snprintf(line, sizeof line, "  target: E %.5g GPa, nu %.4g, UCS %.4g MPa, sigma_t %.4g MPa\n",
                 target.youngs_modulus_pa / 1e9, target.poisson_ratio, target.ucs_pa / 1e6, target.tensile_strength_pa / 1e6);
-  out << line << "  specimens: UCS " << ucs_particles << " particles, Brazilian " << bts_particles << "\n"
+  out << line;
+  if (target.orthotropic) {
+    const OrthotropicConstants& o = *target.orthotropic;
+    std::snprintf(line, sizeof line,
+                  "  orthotropic: E1 %.5g GPa, E2 %.5g GPa, nu12 %.4g, G12 %.5g GPa, axis 1 at %.4g degrees; E and nu "
+                  "above are its apparent constants along the loading axis y (plane strain)\n",
+                  o.youngs_modulus_1_pa / 1e9, o.youngs_modulus_2_pa / 1e9, o.poisson_ratio_12,
+                  o.shear_modulus_12_pa / 1e9, o.axis_angle_rad * 180.0 / kPi);
+    out << line;
+  }
+  out << "  specimens: UCS " << ucs_particles << " particles, Brazilian " << bts_particles << "\n"
       << "  E and nu are the lattice's inputs; the rounds fit the triangles' cohesion and tensile strength"
       << " (friction angle " << friction_angle_deg << " degrees)\n";
   for (const LatticeCalibrationRound& r : rounds) {

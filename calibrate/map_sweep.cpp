@@ -328,6 +328,7 @@ MapSweep RunSweepPoints(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts
   std::atomic<int> finished{sweep.resumed_points};
   std::mutex mutex;  // journal, progress and the first fatal error
   std::string fatal;
+  bool fatal_is_file = false;  // else the sweep's own failure: its points and specimens are chosen for the user
   const int total = static_cast<int>(grid.size());
   if (options.progress && !pending.empty())
     options.progress(static_cast<double>(finished) / total, "map sweep: " + std::to_string(pending.size()) +
@@ -403,7 +404,10 @@ MapSweep RunSweepPoints(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts
         run_point(pending[k]);
       } catch (const std::exception& e) {  // input or file errors stop the sweep
         std::lock_guard<std::mutex> lock(mutex);
-        if (fatal.empty()) fatal = e.what();
+        if (fatal.empty()) {
+          fatal = e.what();
+          fatal_is_file = dynamic_cast<const FileError*>(&e) != nullptr;
+        }
         return;
       }
     }
@@ -413,8 +417,9 @@ MapSweep RunSweepPoints(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts
   for (int w = 1; w < workers; ++w) threads.emplace_back(worker);
   if (workers >= 1) worker();
   for (auto& t : threads) t.join();
+  if (!fatal.empty() && fatal_is_file) throw FileError("map sweep stopped: " + fatal);
   if (!fatal.empty())
-    throw InputError("map sweep stopped on its specimens (UCS " + std::to_string(ucs_packing.size()) +
+    throw ComputationError("map sweep stopped on its specimens (UCS " + std::to_string(ucs_packing.size()) +
                      " particles, Brazilian " + std::to_string(bts_packing.size()) + "): " + fatal +
                      " (larger map specimens: more particles or a larger sweep share)");
 

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
+#include "common/format.h"
 
 namespace specimen {
 namespace {
@@ -64,7 +65,7 @@ ResponseSurface ResponseSurface::Fit(const Eigen::MatrixXd& points, const Eigen:
   s.log_values_ = options.log_values;
   if (options.log_values && !(values.minCoeff() > 0.0))
     throw InputError("response surface: a logarithmic fit needs positive values (smallest " +
-                     std::to_string(values.minCoeff()) + ")");
+                     Number(values.minCoeff()) + ")");
   const Eigen::VectorXd fitted_values = options.log_values ? Eigen::VectorXd(values.array().log()) : values;
   const int inputs = static_cast<int>(points.cols());
   s.lower_ = points.colwise().minCoeff().transpose();

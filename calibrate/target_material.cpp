@@ -11,15 +11,11 @@
 
 #include "common/error.h"
 #include "common/field_names.h"
+#include "common/format.h"
+#include "lab/lab_measurement.h"
 
 namespace specimen {
 namespace {
-
-std::string Number(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
-}
 
 // A required or optional number under `table`, with the key named in every message.
 std::optional<double> ReadNumber(const toml::table& table, const std::string& key,
@@ -89,7 +85,7 @@ TargetMaterial ParseTargetMaterial(const std::string& toml_text, const std::stri
     std::ostringstream message;
     message << source << ", line " << e.source().begin.line << ", column " << e.source().begin.column
             << ": " << e.description();
-    throw FileError(message.str());
+    throw InputError(message.str());  // malformed content, as a bad value on the command line
   }
   RejectUnknownKeys(root, {"material", "confined"}, source);
   const toml::table* table = root["material"].as_table();
@@ -97,14 +93,41 @@ TargetMaterial ParseTargetMaterial(const std::string& toml_text, const std::stri
   const std::string where = source + " [material]";
   RejectUnknownKeys(*table,
                     {"name", "youngs_modulus", "poisson_ratio", "ucs", "tensile_strength", "density",
-                     "friction_angle"},
+                     "friction_angle", "youngs_modulus_1", "youngs_modulus_2", "poisson_ratio_12",
+                     "shear_modulus_12", "axis_angle", "youngs_modulus_3", "poisson_ratio_13", "poisson_ratio_23"},
                     where);
   TargetMaterial material;
   if (const toml::node* name = table->get("name"); name != nullptr && !name->is_string())
     throw InputError(where + ": 'name' must be a string");
   material.name = (*table)["name"].value_or(std::string("unnamed material"));
-  material.youngs_modulus_pa = *ReadNumber(*table, "youngs_modulus", where, true);
-  material.poisson_ratio = *ReadNumber(*table, "poisson_ratio", where, true);
+  if (table->contains("youngs_modulus_1")) {
+    if (table->contains("youngs_modulus") || table->contains("poisson_ratio"))
+      throw InputError(where + ": give either youngs_modulus and poisson_ratio (isotropic) or youngs_modulus_1, "
+                       "youngs_modulus_2, poisson_ratio_12, shear_modulus_12 (orthotropic), not both");
+    OrthotropicConstants o;
+    o.youngs_modulus_1_pa = *ReadNumber(*table, "youngs_modulus_1", where, true);
+    o.youngs_modulus_2_pa = *ReadNumber(*table, "youngs_modulus_2", where, true);
+    o.poisson_ratio_12 = *ReadNumber(*table, "poisson_ratio_12", where, true);
+    o.shear_modulus_12_pa = *ReadNumber(*table, "shear_modulus_12", where, true);
+    const double angle_deg = ReadNumber(*table, "axis_angle", where, false).value_or(0.0);
+    if (!(std::abs(angle_deg) <= 360.0))
+      throw InputError(where + ": axis_angle = " + Number(angle_deg) + " is not allowed: it must be in [-360, 360] degrees");
+    o.axis_angle_rad = angle_deg * 3.14159265358979323846 / 180.0;
+    // The calibration is plane strain: the out-of-plane constants enter D (no silent default).
+    o.youngs_modulus_3_pa = *ReadNumber(*table, "youngs_modulus_3", where, true);
+    o.poisson_ratio_13 = *ReadNumber(*table, "poisson_ratio_13", where, true);
+    o.poisson_ratio_23 = *ReadNumber(*table, "poisson_ratio_23", where, true);
+    std::string invalid;
+    if (!o.IsValid(PlaneModel::kPlaneStrain, &invalid)) throw InputError(where + ": " + invalid);
+    // The apparent constants along y (header comment).
+    const Eigen::Matrix3d compliance = OrthotropicPlaneElasticity(o, PlaneModel::kPlaneStrain).Matrix().inverse();
+    PlaneStrainFromInPlane(1.0 / compliance(1, 1), -compliance(0, 1) / compliance(1, 1), &material.youngs_modulus_pa,
+                           &material.poisson_ratio);
+    material.orthotropic = o;
+  } else {
+    material.youngs_modulus_pa = *ReadNumber(*table, "youngs_modulus", where, true);
+    material.poisson_ratio = *ReadNumber(*table, "poisson_ratio", where, true);
+  }
   material.ucs_pa = *ReadNumber(*table, "ucs", where, true);
   material.tensile_strength_pa = *ReadNumber(*table, "tensile_strength", where, true);
   material.density_kg_per_m3 = *ReadNumber(*table, "density", where, true);
@@ -146,6 +169,14 @@ nlohmann::json TargetMaterialToJson(const TargetMaterial& m) {
   j["tensile_strength_pa"] = m.tensile_strength_pa;
   j["density_kg_per_m3"] = m.density_kg_per_m3;
   if (m.friction_angle_deg) j["friction_angle_deg"] = *m.friction_angle_deg;
+  if (m.orthotropic) {
+    const OrthotropicConstants& o = *m.orthotropic;
+    j["orthotropic"] = {{"youngs_modulus_1_pa", o.youngs_modulus_1_pa}, {"youngs_modulus_2_pa", o.youngs_modulus_2_pa},
+                        {"poisson_ratio_12", o.poisson_ratio_12}, {"shear_modulus_12_pa", o.shear_modulus_12_pa},
+                        {"axis_angle_deg", o.axis_angle_rad * 180.0 / 3.14159265358979323846},
+                        {"youngs_modulus_3_pa", o.youngs_modulus_3_pa}, {"poisson_ratio_13", o.poisson_ratio_13},
+                        {"poisson_ratio_23", o.poisson_ratio_23}};
+  }
   for (const auto& c : m.confined)
     j["confined"].push_back({{"confinement_pa", c.confinement_pa}, {"peak_stress_pa", c.peak_stress_pa}});
   return j;

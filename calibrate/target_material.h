@@ -22,6 +22,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "solver/six_spring_lattice.h"
+
 namespace specimen {
 
 struct ConfinedStrength {
@@ -38,6 +40,13 @@ struct TargetMaterial {
   double density_kg_per_m3 = 0.0;
   std::optional<double> friction_angle_deg;
   std::vector<ConfinedStrength> confined;
+  // An orthotropic rock (keys youngs_modulus_1, youngs_modulus_2, poisson_ratio_12,
+  // shear_modulus_12, youngs_modulus_3, poisson_ratio_13, poisson_ratio_23 and the optional
+  // axis_angle [deg] of axis 1 from x), for the lattice model only. youngs_modulus_pa and
+  // poisson_ratio are then the isotropic pair with its in-plane response along the loading
+  // axis y of the UCS: E' = 1 / S_22 and nu' = -S_12 / S_22 (S = D^-1, plane strain) are
+  // E / (1 - nu^2) and nu / (1 - nu), the same reduction the UCS's linear portion is read with.
+  std::optional<OrthotropicConstants> orthotropic;
 
   // UCS over tensile strength: the contact law of this toolkit reaches at most about 10
   // (Labra sections 4.3.3-4.3.4); a larger ratio is reported, not silently ignored.
@@ -47,7 +56,7 @@ struct TargetMaterial {
 };
 
 // Parses TOML text; `source` names it in messages. Throws InputError (bad values, missing
-// keys, unknown keys) or FileError (unreadable file, TOML syntax with line and column).
+// keys, unknown keys, TOML syntax with line and column) or FileError (unreadable file).
 TargetMaterial ParseTargetMaterial(const std::string& toml_text, const std::string& source);
 TargetMaterial LoadTargetMaterial(const std::string& path);
 

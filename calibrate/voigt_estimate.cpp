@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/format.h"
 
 namespace specimen {
 
@@ -66,7 +67,7 @@ ContactStiffnesses InvertVoigt(const FabricStiffnessSums& sums, const ElasticCon
   if (k.tangential_n_per_m < 0.0) {
     // The largest nu reachable with kt >= 0 is that of kt = 0.
     const double limit = VoigtElasticConstants(sums, 1.0, 0.0).poisson_ratio;
-    throw InputError("poisson_ratio = " + std::to_string(nu) +
+    throw InputError("poisson_ratio = " + Number(nu) +
                      " is beyond what rigid-particle contacts reach on this packing (Voigt limit " +
                      std::to_string(limit) + " at kt = 0); a deformable-particle (DDEM) model is needed");
   }

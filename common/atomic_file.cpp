@@ -176,6 +176,19 @@ void RequireWritableDirectory(const std::string& directory, const std::string& w
     throw FileError(what + ": directory '" + dir + "' is not writable");
 }
 
+bool IsValidOutputName(const std::string& name, std::string* rule) {
+  constexpr size_t kLongest = 200;
+  bool control = false;
+  for (const unsigned char c : name) control = control || c < 0x20 || c == 0x7f;
+  if (!name.empty() && name.find('/') == std::string::npos && name.front() != '.' && !control &&
+      name.size() <= kLongest)
+    return true;
+  if (rule)
+    *rule = "it must be a non-empty file name without '/' or control characters, not starting with '.', of at most " +
+            std::to_string(kLongest) + " bytes (this one has " + std::to_string(name.size()) + ")";
+  return false;
+}
+
 void EnsureDirectory(const std::string& directory, const std::string& what) {
   namespace fs = std::filesystem;
   if (directory.empty()) return;

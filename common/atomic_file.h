@@ -22,6 +22,12 @@ void RequireWritableDirectory(const std::string& directory, const std::string& w
 // Creates `directory` (and parents) if missing; throws FileError if that is impossible.
 void EnsureDirectory(const std::string& directory, const std::string& what);
 
+// Whether `name` can prefix a command's output files: non-empty, without '/', not starting
+// with '.' (no hidden files, no ".."), without control characters, and at most 200 bytes (a
+// file name holds 255; the longest suffix a command adds, temporary tag included, is about
+// 45). Else false, with the rule in *rule. Checked before any work.
+bool IsValidOutputName(const std::string& name, std::string* rule);
+
 // Installs handlers of SIGINT and SIGTERM that remove the temporary files in flight, say on
 // stderr that `program` was interrupted, and exit with 128 + the signal (130, 143). Files of
 // a run that were completed before the signal stay. Temporaries that a killed run (SIGKILL)

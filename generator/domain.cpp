@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/format.h"
 
 namespace specimen {
 namespace {
@@ -446,11 +447,8 @@ Domain<Dim> Domain<Dim>::Parse(const std::string& text) {
   std::vector<double> values;
   std::string token;
   while (in >> token) {
-    char* end = nullptr;
-    const double v = std::strtod(token.c_str(), &end);
-    // Decimal only: strtod would also take hexadecimal ("0x10"), "inf" and "nan".
-    const bool decimal = token.find_first_not_of("0123456789+-.eE") == std::string::npos;
-    if (end == token.c_str() || *end != '\0' || !decimal || !std::isfinite(v))
+    double v = 0.0;
+    if (!ParseDecimal(token, &v))
       throw InputError("domain '" + text + "': '" + token + "' is not a finite decimal number");
     values.push_back(v);
   }

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
+#include "common/format.h"
 #include "generator/compaction.h"
 #include "generator/contact_band.h"
 #include "generator/contact_graph.h"
@@ -263,7 +264,7 @@ bool GeneratorOptions::IsValid(std::string* error) const {
   const bool by_radius = mean_radius > 0.0;
   const bool by_count = particle_count > 0;
   if (!std::isfinite(mean_radius) || mean_radius < 0.0)
-    return fail("mean_radius = " + std::to_string(mean_radius) + " is not allowed: it must be > 0");
+    return fail("mean_radius = " + Number(mean_radius) + " is not allowed: it must be > 0");
   if (particle_count < 0)
     return fail("particle_count = " + std::to_string(particle_count) + " is not allowed: it must be >= 1");
   if (by_radius == by_count)
@@ -271,28 +272,28 @@ bool GeneratorOptions::IsValid(std::string* error) const {
   if (by_count && particle_count > 50000000)
     return fail("particle_count = " + std::to_string(particle_count) + " is above the supported 5e7");
   if (!(radius_ratio >= 1.0) || !std::isfinite(radius_ratio))
-    return fail("radius_ratio = " + std::to_string(radius_ratio) + " is not allowed: it must be >= 1");
+    return fail("radius_ratio = " + Number(radius_ratio) + " is not allowed: it must be >= 1");
   if (!(node_size_spread >= 1.0) || node_size_spread > radius_ratio)
-    return fail("node_size_spread = " + std::to_string(node_size_spread) +
-                " is not allowed: it must be in [1, radius_ratio = " + std::to_string(radius_ratio) + "]");
+    return fail("node_size_spread = " + Number(node_size_spread) +
+                " is not allowed: it must be in [1, radius_ratio = " + Number(radius_ratio) + "]");
   if (!(node_size_exponent >= 0.0) || node_size_exponent > 6.0)
-    return fail("node_size_exponent = " + std::to_string(node_size_exponent) +
+    return fail("node_size_exponent = " + Number(node_size_exponent) +
                 " is not allowed: it must be in [0, 6]");
   if (!(initial_radius_factor_min > 0.0) || !(initial_radius_factor_max >= initial_radius_factor_min) ||
       initial_radius_factor_max > 2.0)
-    return fail("initial radius factor range [" + std::to_string(initial_radius_factor_min) + ", " +
-                std::to_string(initial_radius_factor_max) + "] is not allowed: need 0 < min <= max <= 2");
+    return fail("initial radius factor range [" + Number(initial_radius_factor_min) + ", " +
+                Number(initial_radius_factor_max) + "] is not allowed: need 0 < min <= max <= 2");
   if (!(contact_tolerance > 0.0) || contact_tolerance > 0.2)
-    return fail("contact_tolerance = " + std::to_string(contact_tolerance) +
+    return fail("contact_tolerance = " + Number(contact_tolerance) +
                 " is not allowed: it must be in (0, 0.2] (relative to the mean radius)");
   if (!(overlap_tolerance >= 0.0) || overlap_tolerance > 0.1)
-    return fail("overlap_tolerance = " + std::to_string(overlap_tolerance) +
+    return fail("overlap_tolerance = " + Number(overlap_tolerance) +
                 " is not allowed: it must be in [0, 0.1] (relative to the mean radius)");
   if (!(conflict_overlap > overlap_tolerance) || conflict_overlap > 1.0)
-    return fail("conflict_overlap = " + std::to_string(conflict_overlap) +
+    return fail("conflict_overlap = " + Number(conflict_overlap) +
                 " is not allowed: it must be in (overlap_tolerance, 1]");
   if (!(hole_fill_radius > 0.0) || hole_fill_radius > 1.0)
-    return fail("hole_fill_radius = " + std::to_string(hole_fill_radius) +
+    return fail("hole_fill_radius = " + Number(hole_fill_radius) +
                 " is not allowed: it must be in (0, 1] (relative to the mean radius)");
   if (max_rounds < 1 || max_rounds > 100)
     return fail("max_rounds = " + std::to_string(max_rounds) + " is not allowed: it must be in [1, 100]");
@@ -300,14 +301,14 @@ bool GeneratorOptions::IsValid(std::string* error) const {
     return fail("max_iterations_per_round = " + std::to_string(max_iterations_per_round) +
                 " is not allowed: it must be in [1, 10000]");
   if (!(constraint_fraction > 0.0) || constraint_fraction > 2.0)
-    return fail("constraint_fraction = " + std::to_string(constraint_fraction) +
+    return fail("constraint_fraction = " + Number(constraint_fraction) +
                 " is not allowed: it must be in (0, 2]");
   if (!(round_close_gap >= 0.0) || round_close_gap > 0.5)
-    return fail("round_close_gap = " + std::to_string(round_close_gap) +
+    return fail("round_close_gap = " + Number(round_close_gap) +
                 " is not allowed: it must be in [0, 0.5] (relative to the mean radius; 0: half "
                 "the contact tolerance)");
   if (!(compaction_exponent >= 0.5) || compaction_exponent > 4.0)
-    return fail("compaction_exponent = " + std::to_string(compaction_exponent) +
+    return fail("compaction_exponent = " + Number(compaction_exponent) +
                 " is not allowed: it must be in [0.5, 4]");
   if (compaction_round < 0 || compaction_round > 100)
     return fail("compaction_round = " + std::to_string(compaction_round) +
@@ -316,7 +317,7 @@ bool GeneratorOptions::IsValid(std::string* error) const {
     return fail("compaction_rounds = " + std::to_string(compaction_rounds) +
                 " is not allowed: it must be in [1, 100]");
   if (!(compaction_close_gap >= 0.0) || compaction_close_gap > 0.5)
-    return fail("compaction_close_gap = " + std::to_string(compaction_close_gap) +
+    return fail("compaction_close_gap = " + Number(compaction_close_gap) +
                 " is not allowed: it must be in [0, 0.5] (relative to the mean radius)");
   if (rattler_refill_passes < 0 || rattler_refill_passes > 10)
     return fail("rattler_refill_passes = " + std::to_string(rattler_refill_passes) +
@@ -329,7 +330,7 @@ bool GeneratorOptions::IsValid(std::string* error) const {
                 " needs keep_small_overlaps: the band places pairs anywhere in [-overlap_tolerance, "
                 "contact_tolerance], and the final projection would remove every overlap");
   if (!(contact_band_candidate_gap > 0.0) || contact_band_candidate_gap > 0.5)
-    return fail("contact_band_candidate_gap = " + std::to_string(contact_band_candidate_gap) +
+    return fail("contact_band_candidate_gap = " + Number(contact_band_candidate_gap) +
                 " is not allowed: it must be in (0, 0.5] (relative to the mean radius)");
   if (contact_band_iterations < 1 || contact_band_iterations > 10000)
     return fail("contact_band_iterations = " + std::to_string(contact_band_iterations) +
@@ -371,7 +372,7 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
   } else {
     const double estimate = solid_volume / ParticleVolume<Dim>(options.mean_radius);
     if (estimate > 5e7)
-      throw InputError("mean_radius = " + std::to_string(options.mean_radius) + " would need about " +
+      throw InputError("mean_radius = " + Number(options.mean_radius) + " would need about " +
                        std::to_string(static_cast<long long>(estimate)) +
                        " particles in this domain; the supported maximum is 5e7");
     count = static_cast<int>(std::lround(estimate));
@@ -379,7 +380,7 @@ Packing<Dim> GeneratePacking(const Domain<Dim>& domain, const GeneratorOptions& 
   if (count < 8 || domain.SmallestExtent() < 4.0 * expected_mean_radius)
     throw InputError("the domain is too small for the requested size: it holds about " +
                      std::to_string(count) + " particles and is " +
-                     std::to_string(domain.SmallestExtent() / expected_mean_radius) +
+                     Number(domain.SmallestExtent() / expected_mean_radius) +
                      " mean radii across at its narrowest; at least 8 particles and 4 radii are needed");
   s.particles_requested = count;
   // Radius bounds, centred (in log scale) on the typical radius the densification gives:

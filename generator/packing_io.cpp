@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <fstream>
 #include <istream>
+#include <iterator>
+#include <sstream>
 #include <map>
 #include <ostream>
 #include <utility>
@@ -18,6 +20,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/format.h"
 
 namespace specimen {
 namespace {
@@ -113,11 +116,8 @@ class LineReader {
 // A finite double written in full; `what` names the field for the message.
 double ParseFiniteDouble(const std::string& token, const std::string& what,
                          const LineReader& reader, int line) {
-  char* end = nullptr;
-  const double value = std::strtod(token.c_str(), &end);
-  if (end == token.c_str() || *end != '\0')
-    reader.FailAt(line, what + ": " + Excerpt(token) + " is not a number");
-  if (!std::isfinite(value)) reader.FailAt(line, what + ": " + Excerpt(token) + " is not finite");
+  double value = 0.0;
+  if (!ParseDecimal(token, &value)) reader.FailAt(line, what + ": " + Excerpt(token) + " is not a finite decimal number");
   return value;
 }
 
@@ -218,10 +218,9 @@ Domain<Dim> HeaderDomain(const Header& header, const LineReader& reader) {
   // Checked here so that the message carries the line number, and because a polygon's
   // vertex count is converted to an integer by Domain::Parse.
   for (size_t k = 1; k < words.size(); ++k) {
-    char* end = nullptr;
-    const double value = std::strtod(words[k].c_str(), &end);
-    if (end == words[k].c_str() || *end != '\0' || !std::isfinite(value))
-      reader.FailAt(field.line, "domain: " + Excerpt(words[k]) + " is not a finite number");
+    double value = 0.0;
+    if (!ParseDecimal(words[k], &value))
+      reader.FailAt(field.line, "domain: " + Excerpt(words[k]) + " is not a finite decimal number");
   }
   if (words[0] == "polygon" && words.size() > 1) {
     const double count = std::strtod(words[1].c_str(), nullptr);
@@ -343,9 +342,8 @@ Packing<Dim> ReadPacking(std::istream& in, const std::string& source_name) {
     if (words.size() != 1)
       reader.FailAt(field.line,
                     "contact_tolerance: expected one number, found " + Excerpt(field.value));
-    char* end = nullptr;
-    const double value = std::strtod(words[0].c_str(), &end);
-    if (end == words[0].c_str() || *end != '\0' || !std::isfinite(value) || value < 0.0)
+    double value = 0.0;
+    if (!ParseDecimal(words[0], &value) || value < 0.0)
       reader.FailAt(field.line,
                     "contact_tolerance: " + Excerpt(words[0]) + " is not a finite number >= 0");
     packing.contact_tolerance = value;
@@ -503,6 +501,38 @@ Packing<Dim> LoadPacking(const std::string& path) {
   return ReadPacking<Dim>(in, path);
 }
 
+PackingFile ReadPackingFile(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error))
+    throw FileError("packing file '" + path + "' is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FileError("cannot open packing file '" + path + "': " + std::strerror(errno));
+  std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (in.bad()) throw FileError("packing file '" + path + "': reading failed: " + std::strerror(errno));
+  return PackingFileFromText(path, std::move(text));
+}
+
+PackingFile PackingFileFromText(const std::string& path, std::string text) {
+  PackingFile file;
+  file.path = path;
+  file.text = std::move(text);
+  std::istringstream header_text(file.text);
+  LineReader reader(header_text, path);
+  file.dimension = HeaderDimension(ReadHeader(reader), reader);
+  return file;
+}
+
+template <int Dim>
+Packing<Dim> ParsePackingFile(const PackingFile& file) {
+  if (file.dimension != Dim)
+    throw InputError("packing file '" + file.path + "' is " + std::to_string(file.dimension) + "D, " +
+                     std::to_string(Dim) + "D expected");
+  std::istringstream in(file.text);
+  return ReadPacking<Dim>(in, file.path);
+}
+
+template Packing<2> ParsePackingFile<2>(const PackingFile&);
+template Packing<3> ParsePackingFile<3>(const PackingFile&);
 template void WritePacking<2>(const Packing<2>&, std::ostream&);
 template void WritePacking<3>(const Packing<3>&, std::ostream&);
 template Packing<2> ReadPacking<2>(std::istream&, const std::string&);

@@ -68,4 +68,19 @@ void SavePacking(const Packing<Dim>& packing, const std::string& path);
 template <int Dim>
 Packing<Dim> LoadPacking(const std::string& path);
 
+// A packing file read into memory once, for the commands: a pipe or FIFO (`--packing
+// <(...)`) cannot be opened a second time, so the dimension and the packing come from this.
+struct PackingFile {
+  std::string path;
+  std::string text;
+  int dimension = 0;  // stated in the header
+};
+// Throws FileError as LoadPacking (a directory, a file that cannot be opened, a bad header).
+PackingFile ReadPackingFile(const std::string& path);
+// The same from text already read (`path` names it in messages).
+PackingFile PackingFileFromText(const std::string& path, std::string text);
+// Parses the text; throws FileError as ReadPacking, InputError if the dimension is not Dim.
+template <int Dim>
+Packing<Dim> ParsePackingFile(const PackingFile& file);
+
 }  // namespace specimen

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/atomic_file.h"
+#include "common/format.h"
 #include "common/error.h"
 #include "specimen_version.h"
 #include "generator/exports.h"
@@ -12,11 +13,11 @@
 namespace specimen {
 
 void CheckPackingOutputLocation(const PackingOutputOptions& options) {
-  if (options.name.empty() || options.name.find('/') != std::string::npos)
-    throw InputError("output name '" + options.name +
-                     "' is not allowed: it must be a non-empty file name without '/'");
+  if (std::string rule; !IsValidOutputName(options.name, &rule))
+    throw InputError("output name '" + options.name + "' is not allowed: " + rule);
   if (!(options.liggghts_density_kg_per_m3 > 0.0))
-    throw InputError("LIGGGHTS density must be > 0 kg/m^3");
+    throw InputError("liggghts_density_kg_per_m3 = " + Number(options.liggghts_density_kg_per_m3) +
+                     " is not allowed: it must be > 0 kg/m^3");
   EnsureDirectory(options.directory, "output directory");
 }
 

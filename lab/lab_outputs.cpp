@@ -217,9 +217,8 @@ std::string CracksScript(const LabSnapshot& end, const Packing<2>& packing,
 }  // namespace
 
 void CheckLabOutputLocation(const LabOutputOptions& options) {
-  if (options.name.empty() || options.name.find('/') != std::string::npos)
-    throw InputError("output name '" + options.name +
-                     "' is not allowed: it must be a non-empty file name without '/'");
+  if (std::string rule; !IsValidOutputName(options.name, &rule))
+    throw InputError("output name '" + options.name + "' is not allowed: " + rule);
   EnsureDirectory(options.directory, "output directory");
 }
 

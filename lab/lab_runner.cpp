@@ -14,18 +14,12 @@
 #include "lab/lab_measurement.h"
 #include "solver/scene_state.h"
 #include "solver/simulation.h"
+#include "common/format.h"
 
 namespace specimen {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-std::string Number(double value, int precision = 4) {
-  std::ostringstream out;
-  out.precision(precision);
-  out << value;
-  return out.str();
-}
 
 template <int Dim>
 Eigen::Matrix3d Embed(const Eigen::Matrix<double, Dim, Dim>& m) {
@@ -442,6 +436,17 @@ LabTestResult LabRun<Dim>::Run() {
   for (int k = 0; k < contacts.size(); ++k)
     if (contacts.state[k] == ContactState::kBonded) bonds_.push_back(contacts.pair[k]);
   if (options_.kind != LabTestKind::kPureShear) gap0_ = WallGap(0, 1);
+  // The step budget, before any step: the platens' travel to the strain limit at V.
+  const double travel_m = strain_limit_ * (gap0_ > 0.0 ? gap0_ : specimen_.height_m);
+  const double steps_needed = travel_m / (2.0 * speed_) / simulation_->time_step_s() + ramp_s_ / simulation_->time_step_s();
+  if (!(steps_needed <= static_cast<double>(options_.max_steps)))
+    throw InputError("the test would need about " + Number(steps_needed) + " steps to reach its strain limit " +
+                     Number(strain_limit_) + " (platen speed " + Number(speed_) + " m/s, time step " +
+                     Number(simulation_->time_step_s()) + " s), more than max_steps = " +
+                     std::to_string(options_.max_steps) + ": raise the loading rate or the platen speed, or check "
+                     "kn and kt (kt/kn = " +
+                     Number(material_.tangential_stiffness_n_per_m / material_.normal_stiffness_n_per_m) +
+                     "; the time step follows the stiffer of the two)");
   if (Confined()) {
     Consolidate();
     gap0_ = WallGap(0, 1);
@@ -517,6 +522,11 @@ LabTestResult LabRun<Dim>::Run() {
       break;
     }
     if (point.boundary_strain >= strain_limit_) break;
+    if (r.steps > options_.max_steps)
+      throw ComputationError("the test passed its step budget max_steps = " + std::to_string(options_.max_steps) +
+                             " at strain " + Number(point.boundary_strain) + " of the limit " + Number(strain_limit_) +
+                             " (" + std::to_string(r.pauses) + " quasi-static pauses, " +
+                             std::to_string(r.paused_steps) + " paused steps): raise max_steps or the loading rate");
     const long broken_now = point.broken_in_tension + point.broken_in_shear;
     const bool breaking = options_.pause_on_breakage && broken_now > broken_before;
     broken_before = broken_now;

@@ -13,6 +13,8 @@
 #include "generator/domain.h"
 #include "lab/lab_envelope.h"
 #include "lab/lab_specimen.h"
+#include "common/format.h"
+#include "common/atomic_file.h"
 
 namespace specimen {
 namespace {
@@ -224,7 +226,7 @@ void ReadLatticeMaterial(TableReader& t, LatticeMaterial* m) {
     t.Number("poisson_ratio_13", &o.poisson_ratio_13);
     t.Number("poisson_ratio_23", &o.poisson_ratio_23);
     if (!(std::abs(angle_deg) <= 360.0))
-      throw InputError(t.where() + ": axis_angle = " + std::to_string(angle_deg) + ": must be in [-360, 360] degrees");
+      throw InputError(t.where() + ": axis_angle = " + Number(angle_deg) + ": must be in [-360, 360] degrees");
     o.axis_angle_rad = angle_deg * kDegree;
     std::string error;
     if (!o.IsValid(plane, &error)) throw InputError(t.where() + ": " + error);
@@ -319,6 +321,12 @@ void ReadTest(const toml::table* table, const std::string& source, LabScene* sce
   if (threads < 1 || threads > 1024)
     throw InputError(t.where() + ": threads = " + std::to_string(threads) +
                      " is not allowed: it must be in [1, 1024]");
+  std::int64_t max_steps = o.max_steps;
+  t.Integer("max_steps", &max_steps);
+  if (max_steps < 1 || max_steps > 1000000000000)
+    throw InputError(t.where() + ": max_steps = " + std::to_string(max_steps) +
+                     " is not allowed: it must be in [1, 1e12]");
+  o.max_steps = static_cast<long>(max_steps);
   o.sample_interval_steps = static_cast<int>(interval);
   o.num_threads = static_cast<int>(threads);
   t.Number("strain_boundary_margin", &o.strain_boundary_margin);
@@ -361,9 +369,8 @@ void ReadOutput(const toml::table* table, const std::string& source, LabOutputOp
   t.Boolean("pictures", &output->pictures);
   t.Boolean("snapshots", &output->snapshots);
   t.Finish();
-  if (output->name.empty() || output->name.find('/') != std::string::npos)
-    throw InputError(t.where() + ": name = '" + output->name +
-                     "' is not allowed: it must be a non-empty file name without '/'");
+  if (std::string rule; !IsValidOutputName(output->name, &rule))
+    throw InputError(t.where() + ": name = '" + output->name + "' is not allowed: " + rule);
 }
 
 }  // namespace
@@ -376,7 +383,7 @@ LabScene ParseLabScene(const std::string& toml_text, const std::string& source) 
     std::ostringstream message;
     message << source << ", line " << e.source().begin.line << ", column "
             << e.source().begin.column << ": " << e.description();
-    throw FileError(message.str());
+    throw InputError(message.str());  // malformed content, as a bad value on the command line
   }
   for (const auto& [key, value] : root) {
     (void)value;

@@ -85,8 +85,9 @@ struct LabScene {
 };
 
 // Parses and checks a scene. `source` is the file path: relative packing paths are resolved
-// against its directory, and it names the scene in messages. Throws FileError for TOML syntax
-// errors (with line and column), InputError for anything out of range or unknown.
+// against its directory, and it names the scene in messages. Throws InputError for TOML syntax
+// errors (with line and column, status 2 as a bad option value) and anything out of range or
+// unknown.
 LabScene ParseLabScene(const std::string& toml_text, const std::string& source);
 
 // Reads and parses `path`; FileError if it cannot be read.

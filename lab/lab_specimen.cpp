@@ -6,18 +6,12 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/format.h"
 
 namespace specimen {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-std::string Number(double value) {
-  std::ostringstream out;
-  out.precision(6);
-  out << value;
-  return out.str();
-}
 
 // The shapes each test accepts, as a phrase for messages.
 std::string AcceptedShapes(LabTestKind kind) {

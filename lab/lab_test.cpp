@@ -6,16 +6,10 @@
 #include "common/error.h"
 #include "lab/lab_runner.h"
 #include "lab/lab_specimen.h"
+#include "common/format.h"
 
 namespace specimen {
 namespace {
-
-std::string Number(double value) {
-  std::ostringstream out;
-  out.precision(6);
-  out << value;
-  return out.str();
-}
 
 // Relative change |b - a| / |a| (0 when a = 0).
 double RelativeChange(double a, double b) { return a != 0.0 ? std::abs(b - a) / std::abs(a) : 0.0; }
@@ -87,6 +81,7 @@ bool LabTestOptions::IsValid(std::string* error) const {
                 "below modulus_window_high = " + Number(modulus_window_high));
   if (!(linear_portion_low > 0.0 && linear_portion_low < 1.0))
     return fail("linear_portion_low", linear_portion_low, "in (0, 1)");
+  if (max_steps < 1) return fail("max_steps", static_cast<double>(max_steps), ">= 1");
   if (sample_interval_steps < 1)
     return fail("sample_interval_steps", sample_interval_steps, ">= 1");
   if (!(strain_boundary_margin >= 0.0) || !finite(strain_boundary_margin))

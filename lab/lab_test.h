@@ -192,6 +192,11 @@ struct LabTestOptions {
   // (then reported as "no peak"), 0.001 for the isotropic and shear tests. Axial platen
   // strain (UCS, biaxial, isotropic), platen displacement / D (BTS), eps_xy imposed (shear).
   double strain_limit = 0.0;
+  // Step budget of one test, >= 1: a test that would need more steps to reach its strain
+  // limit at V is refused before the first step (a typo in kn or kt, or a tiny platen speed,
+  // can ask for billions), and a test that passes it (pauses included) stops with an error.
+  // A UCS of the example scene (5,000 discs) takes about 2.5e5 steps, pauses included.
+  long max_steps = 20000000;
 
   // --- Measurement ---
   // Secant window, fractions of the peak control stress (of the largest one when there is

@@ -11,6 +11,7 @@
 #include "lab/lab_measurement.h"
 #include "solver/lattice_packing.h"
 #include "solver/lattice_stability.h"
+#include "common/format.h"
 
 namespace specimen {
 namespace {
@@ -131,7 +132,7 @@ bool LatticeMaterial::IsValid(std::string* error) const {
     return false;
   }
   if (!(density_kg_per_m3 > 0.0 && std::isfinite(density_kg_per_m3))) {
-    *error = "density = " + std::to_string(density_kg_per_m3) + ": must be positive [kg/m^3]";
+    *error = "density = " + Number(density_kg_per_m3) + ": must be positive [kg/m^3]";
     return false;
   }
   return strength.IsValid(error);
@@ -143,7 +144,7 @@ bool LatticeProtocol::IsValid(std::string* error) const {
     return false;
   }
   if (!(local_damping >= 0.0 && local_damping < 1.0)) {
-    *error = "local_damping = " + std::to_string(local_damping) + ": must be in [0, 1)";
+    *error = "local_damping = " + Number(local_damping) + ": must be in [0, 1)";
     return false;
   }
   return true;
@@ -279,9 +280,14 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
       }
     }
   }
-  const long max_steps =
-      static_cast<long>(std::ceil((strain_limit * height / 2.0 + speed * ramp + speed * consolidation) / (speed * dt))) +
-      10;
+  const double steps_needed =
+      std::ceil((strain_limit * height / 2.0 + speed * ramp + speed * consolidation) / (speed * dt)) + 10.0;
+  if (!(steps_needed <= static_cast<double>(options.max_steps)))  // the budget, before any step
+    throw InputError("the test would need about " + Number(steps_needed) + " steps to reach its strain limit " +
+                     Number(strain_limit) + " (platen speed " + Number(speed) + " m/s, time step " + Number(dt) +
+                     " s), more than max_steps = " + std::to_string(options.max_steps) +
+                     ": raise the loading rate or the platen speed");
+  const long max_steps = static_cast<long>(steps_needed);
   // The energy audit: triangles' V sigma:eps / 2 (particle_elastic), the Brazilian platens'
   // penalty (contact_elastic), the platens' work, local damping, and the energy of each
   // triangle at the step it failed (breakage_release).

@@ -1,21 +1,11 @@
 #include "solver/material.h"
+#include "common/format.h"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
 namespace specimen {
-
-namespace {
-
-std::string Number(double value) {
-  std::ostringstream out;
-  out.precision(6);
-  out << value;
-  return out.str();
-}
-
-}  // namespace
 
 std::string PlaneModelName(PlaneModel model) {
   return model == PlaneModel::kPlaneStrain ? "plane strain" : "plane stress";
@@ -41,6 +31,11 @@ bool MaterialParameters::IsValid(std::string* error) const {
     return fail("friction_coefficient (mu)", friction_coefficient, "finite and >= 0");
   if (!(density_kg_per_m3 > 0.0) || !std::isfinite(density_kg_per_m3))
     return fail("density_kg_per_m3", density_kg_per_m3, "finite and > 0");
+  // Above 10 the tangential springs set the time step while the normal ones set the loading
+  // rates: a typo (kt for kn) there asks for billions of steps.
+  if (!(tangential_stiffness_n_per_m <= 10.0 * normal_stiffness_n_per_m))
+    return fail("tangential_stiffness_n_per_m (kt)", tangential_stiffness_n_per_m,
+                "at most 10 kn = " + Number(10.0 * normal_stiffness_n_per_m) + " (kt/kn <= 10)");
   if (particle_youngs_modulus_pa.has_value() &&
       (!(*particle_youngs_modulus_pa > 0.0) || std::isnan(*particle_youngs_modulus_pa)))
     return fail("particle_youngs_modulus_pa (Ep)", *particle_youngs_modulus_pa,
@@ -57,6 +52,25 @@ bool MaterialParameters::IsValid(std::string* error) const {
     return fail("tangential_dashpot_ratio (xi_t)", tangential_dashpot_ratio, "finite and >= 0");
   if (!(mass_scaling_budget >= 0.0 && mass_scaling_budget <= 0.05))
     return fail("mass_scaling_budget", mass_scaling_budget, "in [0, 0.05]");
+  return true;
+}
+
+bool MaterialParameters::IsPhysical(double length_m, std::string* error) const {
+  auto fail = [&](const std::string& what, double value, const std::string& range) {
+    if (error) *error = what + " = " + Number(value) + " is not allowed: it must be " + range;
+    return false;
+  };
+  constexpr double kLowestModulus = 1.0, kHighestModulus = 1e16;  // Pa
+  const double modulus = normal_stiffness_n_per_m / length_m;
+  if (!(modulus >= kLowestModulus && modulus <= kHighestModulus))
+    return fail("normal_stiffness_n_per_m (kn)", normal_stiffness_n_per_m,
+                "in [" + Number(kLowestModulus * length_m) + ", " + Number(kHighestModulus * length_m) +
+                    "] N/m here (kn / L in [1 Pa, 1e16 Pa], L = " + Number(length_m) + " m)");
+  // No upper bound on Ep: Ep -> infinity is the rigid limit, a legitimate check of DDEM.
+  if (particle_youngs_modulus_pa && !(*particle_youngs_modulus_pa >= kLowestModulus))
+    return fail("particle_youngs_modulus_pa (Ep)", *particle_youngs_modulus_pa, ">= 1 Pa");
+  if (!(density_kg_per_m3 >= 0.1 && density_kg_per_m3 <= 1e13))
+    return fail("density_kg_per_m3", density_kg_per_m3, "in [0.1, 1e13] kg/m^3");
   return true;
 }
 

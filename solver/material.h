@@ -75,6 +75,12 @@ struct MaterialParameters {
 
   // Names the first invalid field, its value and the allowed range.
   bool IsValid(std::string* error) const;
+  // The ranges of a physical material, checked where the particle size is known: the
+  // stiffness modulus kn / L (L = 1 m thickness in 2D, the volume-mean radius in 3D) in
+  // [1 Pa, 1e16 Pa] (gels to far beyond diamond), Ep >= 1 Pa, density in [0.1, 1e13] kg/m^3
+  // (room for density scaling). Outside them a run is a typo: the time step and the
+  // energies lose every digit (kn = 1e-300) or overflow (kn = 1e300).
+  bool IsPhysical(double length_m, std::string* error) const;
 };
 
 // The linear isotropic compliance of a DDEM particle, eps = D sigma (Madan (2.46)), in the

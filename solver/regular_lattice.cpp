@@ -5,6 +5,7 @@
 
 #include "common/error.h"
 #include "solver/neighbour_search.h"
+#include "common/format.h"
 
 namespace specimen {
 
@@ -17,7 +18,7 @@ void CheckSize(const std::string& what, int value) {
 
 void CheckRadius(double radius) {
   if (!(radius > 0.0) || !std::isfinite(radius))
-    throw InputError("radius = " + std::to_string(radius) +
+    throw InputError("radius = " + Number(radius) +
                      " is not allowed: it must be finite and > 0");
 }
 

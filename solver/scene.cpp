@@ -1,20 +1,10 @@
 #include "solver/scene.h"
+#include "common/format.h"
 
 #include <cmath>
 #include <sstream>
 
 namespace specimen {
-
-namespace {
-
-std::string Number(double value) {
-  std::ostringstream out;
-  out.precision(6);
-  out << value;
-  return out.str();
-}
-
-}  // namespace
 
 template <int Dim>
 bool SceneOptions<Dim>::IsValid(std::string* error) const {

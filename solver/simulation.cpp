@@ -11,17 +11,11 @@
 #include "common/error.h"
 #include "solver/scene_state.h"
 #include "solver/stability_analysis.h"
+#include "common/format.h"
 
 namespace specimen {
 
 namespace {
-
-std::string Number(double value, int precision = 6) {
-  std::ostringstream out;
-  out.precision(precision);
-  out << value;
-  return out.str();
-}
 
 void CheckIndices(const std::vector<int>& particles, int count, const std::string& what) {
   for (size_t k = 0; k < particles.size(); ++k)
@@ -99,6 +93,8 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
     : state_(std::make_unique<SceneState<Dim>>()) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError(error);
+  if (!options.material.IsPhysical(Dim == 2 ? 1.0 : VolumeMeanRadius<Dim>(packing.radii), &error))
+    throw InputError("material: " + error);
   SceneState<Dim>& s = *state_;
   const MaterialParameters& material = options.material;
   s.material = material;

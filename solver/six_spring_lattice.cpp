@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/format.h"
 
 namespace specimen {
 namespace {
@@ -107,7 +108,7 @@ bool OrthotropicConstants::IsValid(PlaneModel model, std::string* error) const {
     return false;
   };
   auto positive = [&](double v, const char* name) {
-    return v > 0.0 && std::isfinite(v) ? true : fail(std::string(name) + " = " + std::to_string(v) +
+    return v > 0.0 && std::isfinite(v) ? true : fail(std::string(name) + " = " + Number(v) +
                                                      ": must be a positive number [Pa]");
   };
   if (!positive(youngs_modulus_1_pa, "youngs_modulus_1") || !positive(youngs_modulus_2_pa, "youngs_modulus_2") ||
@@ -130,7 +131,7 @@ bool OrthotropicConstants::IsValid(PlaneModel model, std::string* error) const {
   }
   if (!(std::isfinite(poisson_ratio_12) && std::isfinite(poisson_ratio_13) && std::isfinite(poisson_ratio_23)) ||
       Eigen::LLT<Eigen::Matrix3d>(s).info() != Eigen::Success) {
-    return fail("poisson_ratio_12 = " + std::to_string(poisson_ratio_12) +
+    return fail("poisson_ratio_12 = " + Number(poisson_ratio_12) +
                 (model == PlaneModel::kPlaneStrain ? ", poisson_ratio_13, poisson_ratio_23" : "") +
                 ": the compliance is not positive definite (in plane |nu12| < sqrt(E1 / E2))");
   }

@@ -11,17 +11,11 @@
 #include "solver/particles.h"
 #include "solver/stability_network.h"
 #include "solver/time_step.h"
+#include "common/format.h"
 
 namespace specimen {
 
 namespace {
-
-std::string Number(double value, int precision = 6) {
-  std::ostringstream out;
-  out.precision(precision);
-  out << value;
-  return out.str();
-}
 
 // 2 / sqrt(lambda) x damping; infinity for lambda = 0.
 double TimeStepOf(double lambda, double damping) {
@@ -483,6 +477,8 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
   options.lanczos.num_threads = scene.num_threads;  // the network's products and the vectors'
   std::string error;
   if (!options.IsValid(&error)) throw InputError("stability analysis: " + error);
+  if (!scene.material.IsPhysical(Dim == 2 ? 1.0 : VolumeMeanRadius<Dim>(packing.radii), &error))
+    throw InputError("material: " + error);
   const auto start = std::chrono::steady_clock::now();
   const LinearisedNetwork<Dim> network(packing, scene, options.wall_reach_m);
   const MaterialParameters& material = scene.material;

@@ -9,17 +9,11 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/format.h"
 
 namespace specimen {
 
 namespace {
-
-std::string Number(double value) {
-  std::ostringstream out;
-  out.precision(6);
-  out << value;
-  return out.str();
-}
 
 void RejectUnknownKeys(const toml::table& table, const std::set<std::string>& known,
                        const std::string& where) {
@@ -67,7 +61,7 @@ StabilityParameters ParseStabilityParameters(const std::string& text, const std:
     std::ostringstream message;
     message << source << ", line " << e.source().begin.line << ", column "
             << e.source().begin.column << ": " << e.description();
-    throw FileError(message.str());
+    throw InputError(message.str());  // malformed content, as a bad value on the command line
   }
   RejectUnknownKeys(root, {"material", "time_step", "stability", "walls"}, source);
   StabilityParameters p;

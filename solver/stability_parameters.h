@@ -57,8 +57,8 @@ struct StabilityParameters {
   std::optional<double> wall_friction;
 };
 
-// Parses the TOML text; `source` names it in messages. Throws FileError for TOML syntax
-// (line and column) and InputError for unknown keys or values of the wrong type.
+// Parses the TOML text; `source` names it in messages. Throws InputError for TOML syntax
+// (line and column), unknown keys and values of the wrong type.
 StabilityParameters ParseStabilityParameters(const std::string& toml_text,
                                              const std::string& source);
 StabilityParameters LoadStabilityParameters(const std::string& path);

@@ -26,6 +26,7 @@
 #include "calibrate/map_store.h"
 #include "calibrate/target_material.h"
 #include "common/atomic_file.h"
+#include "common/format.h"
 #include "common/progress.h"
 #include "generator/packing_io.h"
 #include "lab/lab_specimen.h"
@@ -73,6 +74,7 @@ const FieldNames kOptionNames = {
     {"workers", "--workers"},
     {"ucs_particles", "--count"},
     {"radius_ratio", "--radius-ratio"},
+    {"output name", "--name"},
 };
 
 // data/maps of the working directory when there is one (a run from the repository), else
@@ -244,7 +246,8 @@ int main(int argc, char** argv) {
   app.add_option("material", cl.material, "target material (TOML; see data/materials/)")->required();
   app.add_option("--dimension", cl.dimension, "2 (discs, plane strain) or 3 (spheres), default 2");
   app.add_option("--model", cl.model,
-                 "rigid | ddem | auto (DDEM when nu is beyond rigid particles) | lattice (six-spring, 2D), default auto");
+                 "rigid | ddem | auto (DDEM when nu is beyond rigid particles; the lattice for an orthotropic target) | "
+                 "lattice (six-spring, 2D), default auto");
   app.add_option("--packing", cl.packing, "UCS specimen packing file (else generated)");
   app.add_option("--bts-packing", cl.bts_packing, "Brazilian disc packing file (with --packing)");
   app.add_option("--ucs-domain", cl.ucs_domain,
@@ -280,7 +283,11 @@ int main(int argc, char** argv) {
     if (cl.dimension != 2 && cl.dimension != 3)
       throw InputError("--dimension = " + std::to_string(cl.dimension) + ", allowed 2 or 3");
     const TargetMaterial target = LoadTargetMaterial(cl.material);
-    if (cl.model == "lattice") {
+    // Only the lattice takes an anisotropic D: --model auto picks it for an orthotropic target.
+    if (target.orthotropic && cl.model != "lattice" && cl.model != "auto")
+      throw InputError(cl.material + ": an orthotropic target (youngs_modulus_1, ...) needs --model lattice (or auto); "
+                       "bonded particles are isotropic, not --model " + cl.model);
+    if (cl.model == "lattice" || (target.orthotropic && cl.model == "auto")) {
       if (cl.dimension != 2) throw InputError("--model lattice: the six-spring lattice is 2D (--dimension 2)");
       // Settings of the bonded calibration that the lattice has no use for: refused, not ignored.
       for (const char* option : {"--maps", "--maps-dir", "--no-reuse", "--workers", "--sweep-fraction",
@@ -312,7 +319,7 @@ int main(int argc, char** argv) {
     std::string error;
     if (!options.IsValid(&error)) throw InputError(error);
     if (!(cl.sweep_fraction > 0.0 && cl.sweep_fraction <= 1.0))
-      throw InputError("--sweep-fraction = " + std::to_string(cl.sweep_fraction) + ", allowed (0, 1]");
+      throw InputError("--sweep-fraction = " + Number(cl.sweep_fraction) + ", allowed (0, 1]");
     if (cl.count && *cl.count < 1)
       throw InputError("--count = " + std::to_string(*cl.count) + ", allowed >= 1");
     if (cl.seed < 0) throw InputError("--seed = " + std::to_string(cl.seed) + ", allowed >= 0");

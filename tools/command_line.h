@@ -11,6 +11,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/field_names.h"
+#include "common/format.h"
 
 namespace specimen {
 
@@ -42,6 +43,18 @@ inline bool ParseCommandLine(CLI::App& app, int argc, char** argv, int* status) 
       *status = kExitBadInput;
       return false;
     }
+  }
+  // One number grammar for every input (common/format.h): a numeric option takes finite
+  // decimals only (CLI11 would also take "0x10", "inf" and "nan").
+  for (CLI::Option* option : app.get_options()) {
+    const std::string type = option->get_type_name();
+    if (type.find("FLOAT") == std::string::npos && type.find("INT") == std::string::npos) continue;
+    option->check(CLI::Validator(
+        [](std::string& text) {
+          double unused = 0.0;
+          return ParseDecimal(text, &unused) ? std::string() : "'" + text + "' is not a finite decimal number";
+        },
+        "", "decimal"));
   }
   try {
     app.parse(argc, argv);

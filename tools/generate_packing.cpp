@@ -24,6 +24,7 @@
 #include <optional>
 #include <sstream>
 
+#include "common/format.h"
 #include "common/progress.h"
 #include "generator/contact_band.h"
 #include "generator/generate.h"
@@ -85,6 +86,8 @@ const FieldNames kOptionNames = {
     {"contact_band_rounds", "--band-rounds"},
     {"rattler_refill_passes", "--refill-passes"},
     {"contact_band_candidate_gap", "--band-candidate-gap"},
+    {"liggghts_density_kg_per_m3", "--liggghts-density"},
+    {"output name", "--name"},
 };
 
 // Rounds of the power-law preset before --contact-band (README, generator benchmark).
@@ -125,7 +128,7 @@ int Run(const CommandLine& cl) {
   options.mean_radius = cl.mean_radius.value_or(0.0);
   options.particle_count = cl.count.value_or(0);
   if (cl.mean_radius && !(*cl.mean_radius > 0.0))
-    throw InputError("--mean-radius = " + std::to_string(*cl.mean_radius) +
+    throw InputError("--mean-radius = " + Number(*cl.mean_radius) +
                      " is not allowed: it must be > 0");
   if (cl.count && *cl.count < 1)
     throw InputError("--count = " + std::to_string(*cl.count) + " is not allowed: it must be >= 1");
@@ -146,7 +149,7 @@ int Run(const CommandLine& cl) {
   if (cl.max_rounds) options.max_rounds = *cl.max_rounds;
   if (cl.close_gap) {
     if (!(*cl.close_gap > 0.0))
-      throw InputError("--close-gap = " + std::to_string(*cl.close_gap) +
+      throw InputError("--close-gap = " + Number(*cl.close_gap) +
                        " is not allowed: it must be in (0, 0.5] (relative to the mean radius)");
     options.round_close_gap = *cl.close_gap;
   }

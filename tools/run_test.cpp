@@ -49,9 +49,9 @@ struct CommandLine {
 };
 
 template <int Dim>
-Packing<Dim> SceneSpecimen(const LabScene& scene, bool quiet) {
-  if (!scene.packing_path.empty()) {
-    Packing<Dim> packing = LoadPacking<Dim>(scene.packing_path);
+Packing<Dim> SceneSpecimen(const LabScene& scene, const PackingFile* file, bool quiet) {
+  if (file) {
+    Packing<Dim> packing = ParsePackingFile<Dim>(*file);
     CheckPackingGeometry<Dim>(packing, scene.packing_path);
     return packing;
   }
@@ -71,7 +71,7 @@ Packing<Dim> SceneSpecimen(const LabScene& scene, bool quiet) {
 }
 
 template <int Dim>
-int Run(LabScene scene, const CommandLine& cl) {
+int Run(LabScene scene, const PackingFile* file, const CommandLine& cl) {
   // 1. The command line overrides the scene's output and run settings.
   scene.output.directory = cl.output;
   if (cl.name) scene.output.name = *cl.name;  // an empty name is rejected below
@@ -85,7 +85,7 @@ int Run(LabScene scene, const CommandLine& cl) {
     throw InputError(InUserTerms(error, {{"num_threads", "--threads (or [test] threads)"}}));
 
   // 2. The specimen, checked against the test before the run; then the output location.
-  const Packing<Dim> packing = SceneSpecimen<Dim>(scene, cl.quiet);
+  const Packing<Dim> packing = SceneSpecimen<Dim>(scene, file, cl.quiet);
   if (scene.lattice && Dim != 2) throw InputError(scene.source + ": the lattice model is 2D; the specimen is 3D");
   if (scene.plane_model_given && Dim == 3)
     throw InputError(scene.source + " [material]: plane_model is a 2D setting; the specimen is 3D");
@@ -162,7 +162,10 @@ int main(int argc, char** argv) {
   if (int status = 0; !ParseCommandLine(app, argc, argv, &status)) return status;
   return RunCommand("run-test", [&] {
     LabScene scene = LoadLabScene(cl.scene);
-    if (scene.dimension == 0) scene.dimension = ReadPackingDimension(scene.packing_path);
-    return scene.dimension == 2 ? Run<2>(scene, cl) : Run<3>(scene, cl);
+    std::optional<PackingFile> file;  // read once: it may be a pipe
+    if (!scene.packing_path.empty()) file = ReadPackingFile(scene.packing_path);
+    if (scene.dimension == 0) scene.dimension = file->dimension;
+    const PackingFile* packing = file ? &*file : nullptr;
+    return scene.dimension == 2 ? Run<2>(scene, packing, cl) : Run<3>(scene, packing, cl);
   });
 }

@@ -37,6 +37,7 @@
 
 #include "common/atomic_file.h"
 #include "common/plot.h"
+#include "common/format.h"
 #include "common/progress.h"
 #include "generator/packing_io.h"
 #include "solver/lattice_packing.h"
@@ -135,7 +136,7 @@ std::string SweepPlot(const std::string& csv, const StabilitySummary& summary) {
 }
 
 template <int Dim>
-int Run(const CommandLine& cl) {
+int Run(const CommandLine& cl, const PackingFile& file) {
   // 1. The parameter set: options over the file, validated before any work.
   StabilityParameters values = cl.values;
   if (!cl.walls.empty()) {
@@ -170,7 +171,7 @@ int Run(const CommandLine& cl) {
                      " is not allowed: it must be >= 1 (or 0 for every core)");
   if (Dim == 3 && values.plane_model)
     throw InputError("--plane (or [material] plane_model) is a 2D setting; the packing is 3D");
-  const Packing<Dim> packing = LoadPacking<Dim>(cl.packing);
+  const Packing<Dim> packing = ParsePackingFile<Dim>(file);
   CheckPackingGeometry<Dim>(packing, cl.packing);
   SceneOptions<Dim> scene = StabilitySceneOf<Dim>(values, packing);
   scene.num_threads = cl.threads > 0 ? cl.threads : IdleCores();
@@ -194,8 +195,8 @@ int Run(const CommandLine& cl) {
     options.sweep_poisson_ratios = cl.sweep_values.empty() ? kDefaultSweep : cl.sweep_values;
   std::string error;
   if (!options.IsValid(&error)) throw InputError(error);
-  if (cl.name.empty() || cl.name.find('/') != std::string::npos)
-    throw InputError("--name '" + cl.name + "' is not allowed: a non-empty file name without '/'");
+  if (std::string rule; !IsValidOutputName(cl.name, &rule))
+    throw InputError("--name '" + cl.name + "' is not allowed: " + rule);
 
   // 2. Fail on an unusable output location now, not after the work.
   EnsureDirectory(cl.output, "output directory");
@@ -242,7 +243,7 @@ int Run(const CommandLine& cl) {
 // The six-spring lattice of a 2D packing (solver/lattice_packing.h): the certified critical
 // step of central differences with its lumped masses, the Gershgorin bound, the closed form
 // of the regular lattice at the mean edge length for comparison, and the verdict on --dt.
-int RunLattice(const CommandLine& cl) {
+int RunLattice(const CommandLine& cl, const PackingFile& file) {
   const StabilityParameters& v = cl.values;
   if (!cl.lattice_youngs || !cl.lattice_poisson)
     throw InputError("--lattice-E and --lattice-nu go together (the six-spring lattice's E and nu)");
@@ -254,7 +255,7 @@ int RunLattice(const CommandLine& cl) {
   if (!v.density_kg_per_m3) throw InputError("--density is missing (the lattice's lumped masses)");
   const double density = *v.density_kg_per_m3;
   if (!(density > 0.0 && std::isfinite(density)))
-    throw InputError("density = " + std::to_string(density) + " (--density) is not allowed: it must be > 0");
+    throw InputError("density = " + Number(density) + " (--density) is not allowed: it must be > 0");
   const PlaneModel plane = !v.plane_model || *v.plane_model == "strain" ? PlaneModel::kPlaneStrain
                            : *v.plane_model == "stress"             ? PlaneModel::kPlaneStress
                                                                     : throw InputError("--plane '" + *v.plane_model +
@@ -264,10 +265,10 @@ int RunLattice(const CommandLine& cl) {
   if (!(safety > 0.0 && safety <= 1.0)) throw InputError("--safety must be in (0, 1]");
   if (!(margin >= 0.0 && margin < 1.0)) throw InputError("--margin must be in [0, 100) per cent");
   if (v.time_step_s && !(*v.time_step_s > 0.0)) throw InputError("--dt must be > 0");
-  if (cl.name.empty() || cl.name.find('/') != std::string::npos)
-    throw InputError("--name '" + cl.name + "' is not allowed: a non-empty file name without '/'");
+  if (std::string rule; !IsValidOutputName(cl.name, &rule))
+    throw InputError("--name '" + cl.name + "' is not allowed: " + rule);
   const PlaneElasticity d = IsotropicPlaneElasticity(*cl.lattice_youngs, *cl.lattice_poisson, plane);
-  const Packing<2> packing = LoadPacking<2>(cl.packing);
+  const Packing<2> packing = ParsePackingFile<2>(file);
   CheckPackingGeometry<2>(packing, cl.packing);
   EnsureDirectory(cl.output, "output directory");
 
@@ -390,11 +391,11 @@ int main(int argc, char** argv) {
   app.add_option("--lattice-nu", cl.lattice_poisson, "the lattice's Poisson ratio (with --lattice-E)");
   if (int status = 0; !ParseCommandLine(app, argc, argv, &status)) return status;
   return RunCommand("stability-limit", [&] {
-    const int dimension = ReadPackingDimension(cl.packing);
+    const PackingFile file = ReadPackingFile(cl.packing);  // once: it may be a pipe
     if (cl.lattice_youngs || cl.lattice_poisson) {
-      if (dimension != 2) throw InputError("--lattice-E: the six-spring lattice is 2D; the packing is 3D");
-      return RunLattice(cl);
+      if (file.dimension != 2) throw InputError("--lattice-E: the six-spring lattice is 2D; the packing is 3D");
+      return RunLattice(cl, file);
     }
-    return dimension == 2 ? Run<2>(cl) : Run<3>(cl);
+    return file.dimension == 2 ? Run<2>(cl, file) : Run<3>(cl, file);
   }, kOptionNames);
 }

@@ -61,6 +61,39 @@ std::string Replace(std::string text, const std::string& from, const std::string
   return text;
 }
 
+// An orthotropic target (the lattice model): E and nu become its apparent plane-strain constants
+// along the loading axis y, from the compliance of its D.
+TEST(TargetMaterial, OrthotropicTargetGivesTheApparentConstantsAlongY) {
+  const std::string text = R"(
+[material]
+name = "slate"
+youngs_modulus_1 = 60e9
+youngs_modulus_2 = 30e9
+poisson_ratio_12 = 0.25
+shear_modulus_12 = 15e9
+youngs_modulus_3 = 60e9
+poisson_ratio_13 = 0.2
+poisson_ratio_23 = 0.125
+ucs = 100e6
+tensile_strength = 8e6
+density = 2700
+)";
+  const TargetMaterial m = ParseTargetMaterial(text, "slate");
+  ASSERT_TRUE(m.orthotropic.has_value());
+  // Axis 2 along y, plane strain eps_zz = 0: S22' = S22 - S23^2 / S33, S12' = S12 - S13 S23 / S33.
+  const double s22 = 1.0 / 30e9, s33 = 1.0 / 60e9, s23 = -0.125 / 30e9, s12 = -0.25 / 60e9, s13 = -0.2 / 60e9;
+  const double s22p = s22 - s23 * s23 / s33, s12p = s12 - s13 * s23 / s33;
+  // E, nu: the isotropic pair of the same in-plane response, E' = E / (1 - nu^2), nu' = nu / (1 - nu).
+  const double nu_in = -s12p / s22p, nu = nu_in / (1.0 + nu_in);
+  EXPECT_NEAR(m.poisson_ratio, nu, 1e-12);
+  EXPECT_NEAR(m.youngs_modulus_pa, (1.0 / s22p) * (1.0 - nu * nu), 1e-9 * 30e9);
+  // At 90 degrees axis 1 lies along y.
+  const TargetMaterial turned = ParseTargetMaterial(text + "axis_angle = 90\n", "slate");
+  const double s11p = 1.0 / 60e9 - s13 * s13 / s33, s21p = -0.25 / 60e9 - s13 * s23 / s33;
+  const double nu_turned = (-s21p / s11p) / (1.0 - s21p / s11p);
+  EXPECT_NEAR(turned.youngs_modulus_pa, (1.0 / s11p) * (1.0 - nu_turned * nu_turned), 1e-6 * 60e9);
+}
+
 TEST(TargetMaterial, BadInputNamesTheFieldAndRange) {
   const std::string base = kLabra;
   ExpectRejected(Replace(base, "youngs_modulus = 18.691e9", "youngs_modulus = -1"), "youngs_modulus");
@@ -74,6 +107,10 @@ TEST(TargetMaterial, BadInputNamesTheFieldAndRange) {
   ExpectRejected(base + "friction_angle = 95\n", "(0, 90)");
   ExpectRejected(base + "[[confined]]\nconfinement = -1\npeak_stress = 1e8\n", "confinement");
   ExpectRejected("[material\n", "line 1");
+  ExpectRejected(base + "youngs_modulus_1 = 6e10\n", "not both");
+  ExpectRejected("[material]\nyoungs_modulus_1 = 6e10\nyoungs_modulus_2 = 3e10\npoisson_ratio_12 = 0.2\n"
+                 "shear_modulus_12 = 1e10\nucs = 1e8\ntensile_strength = 8e6\ndensity = 2700\n",
+                 "'youngs_modulus_3' is missing");
   ExpectRejected("x = 1\n", "unknown key 'x'");
   EXPECT_THROW(LoadTargetMaterial("/nonexistent/material.toml"), FileError);
   // A directory is a file error, not a material without its table.

@@ -294,11 +294,13 @@ TEST(PackingIoErrors, ParticleCountAndLines) {
 }
 
 TEST(PackingIoErrors, ParticleNumbers) {
-  ExpectReadError(WithLine(9, "inf 0.25 0.1"), {"line 9", "particle 1 of 3", "not finite"});
-  ExpectReadError(WithLine(9, "0.25 nan 0.1"), {"line 9", "not finite"});
-  ExpectReadError(WithLine(9, "0.25 1e999 0.1"), {"line 9", "not finite"});
-  ExpectReadError(WithLine(9, "0.25 0.25 abc"), {"line 9", "'abc' is not a number"});
-  ExpectReadError(WithLine(9, "0.25 0.25 0.1x"), {"line 9", "is not a number"});
+  ExpectReadError(WithLine(9, "inf 0.25 0.1"), {"line 9", "particle 1 of 3", "'inf' is not a finite decimal number"});
+  ExpectReadError(WithLine(9, "0.25 nan 0.1"), {"line 9", "not a finite decimal number"});
+  ExpectReadError(WithLine(9, "0.25 1e999 0.1"), {"line 9", "not a finite decimal number"});
+  ExpectReadError(WithLine(9, "0.25 0.25 abc"), {"line 9", "'abc' is not a finite decimal number"});
+  ExpectReadError(WithLine(9, "0.25 0.25 0.1x"), {"line 9", "is not a finite decimal number"});
+  // One number grammar with the options and the domains: no hexadecimal.
+  ExpectReadError(WithLine(9, "0x1p-2 0.25 0.1"), {"line 9", "'0x1p-2' is not a finite decimal number"});
   ExpectReadError(WithLine(11, "0.5 0.75 0"), {"line 11", "radius 0 must be > 0"});
   ExpectReadError(WithLine(11, "0.5 0.75 -0.1"), {"line 11", "radius"});
   ExpectReadError(WithLine(11, "0.5 0.75 -0"), {"line 11", "radius"});

@@ -198,10 +198,11 @@ TEST_F(RunTestCommand, FileErrors) {
   r = RunTest(dir.string() + " --output " + (dir / "out").string());
   EXPECT_EQ(r.status, 3) << r.output;
   EXPECT_NE(r.output.find("is a directory"), std::string::npos) << r.output;
-  // A scene that is not TOML.
+  // A scene that is not TOML: bad input (2), as the same mistake on a command line, with the line.
   std::ofstream(dir / "broken.toml") << "[test\nkind = ";
   r = RunTest((dir / "broken.toml").string() + " --output " + (dir / "out").string());
-  EXPECT_EQ(r.status, 3) << r.output;
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("line 1"), std::string::npos) << r.output;
   EXPECT_TRUE(MissingOrEmpty(dir / "out"));
 }
 

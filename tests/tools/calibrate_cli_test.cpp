@@ -82,6 +82,15 @@ TEST(CalibrateToMaterialCommand, BadInputExitsWithTwoAndWritesNothing) {
       {good + o + " --maps " + garbage.string(), 2, "not valid JSON"},
       // Files that do not exist.
       {"/nonexistent/material.toml" + o, 3, ""},
+      // An orthotropic target: only the lattice takes it.
+      {Material("orthotropic", "youngs_modulus_1 = 5e10\nyoungs_modulus_2 = 2.5e10\npoisson_ratio_12 = 0.25\n"
+                               "shear_modulus_12 = 1.2e10\nyoungs_modulus_3 = 5e10\npoisson_ratio_13 = 0.2\n"
+                               "poisson_ratio_23 = 0.15\nucs = 1e8\ntensile_strength = 1e7\ndensity = 2600\n")
+               .string() + o + " --model rigid",
+       2, "needs --model lattice"},
+      // TOML syntax is bad input, as on the command line; a name that is no file name too.
+      {Material("syntax", "youngs_modulus = 1e10\npoisson_ratio = 0.2 0.3\n").string() + o, 2, "column"},
+      {good + o + " --name .hidden", 2, "--name"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.arguments);

@@ -1,11 +1,13 @@
 // The stability-limit command as a user runs it: the sample runs of its header comment, the
 // JSON keys, the files, the exit statuses and the messages for bad input (no file written).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -232,6 +234,20 @@ TEST_F(StabilityLimitCommand, BadInputExitsWithTwoAndWritesNothing) {
       {"--kn 7e10 --density 2000 --sweep E", "--sweep 'E'"},
       {"--kn 7e10 --density 2000 --sweep nu_p --sweep-values 0.2,0.7", "sweep nu_p = 0.7"},
       {"--parameters " + bad_toml.string() + " --density 2000", "unknown key 'stiffness'"},
+      // Physical ranges: a stiffness or density that would lose every digit or overflow.
+      {"--kn 1e-300 --density 2000", "kn (--kn, [material] normal_stiffness) = 1e-300 is not allowed"},
+      {"--kn 1e300 --density 2000", "kn (--kn, [material] normal_stiffness) = 1e+300 is not allowed"},
+      {"--kn 7e10 --density 1e-300", "density (--density, [material] density) = 1e-300"},
+      {"--kn 1e-3 --kt 2.5e9 --density 2000", "kt/kn <= 10"},
+      // One number grammar: decimals only, as in the packing files and the domains.
+      {"--kn 0x10 --density 2000", "'0x10' is not a finite decimal number"},
+      {"--kn inf --density 2000", "'inf' is not a finite decimal number"},
+      // Values as given, not in fixed point.
+      {"--kn 7e10 --density 2000 --dt -1e-9", "= -1e-09"},
+      // Output names: no hidden files, no "..", no name too long for the file system.
+      {"--kn 7e10 --density 2000 --name ..", "--name '..' is not allowed"},
+      {"--kn 7e10 --density 2000 --name .hidden", "not starting with '.'"},
+      {"--kn 7e10 --density 2000 --name " + std::string(300, 'a'), "at most 200 bytes"},
       // A bad value in the file is reported even when an option overrides it.
       {"--parameters " + bad_value_toml.string() + " --safety 0.9",
        bad_value_toml.string() + ": safety_factor (--safety, [time_step] safety_factor) = 1.5"},
@@ -251,11 +267,12 @@ TEST_F(StabilityLimitCommand, FileErrorsExitWithThree) {
   Result r = StabilityLimit("--packing /nonexistent/p.packing --kn 7e10 --density 2000 --output " +
                             dir.string());
   EXPECT_EQ(r.status, 3) << r.output;
+  // TOML that does not parse is bad input (2), as the same mistake on the command line.
   const fs::path broken = fs::temp_directory_path() / "specimen_stability_broken.toml";
   std::ofstream(broken) << "[material\nnormal_stiffness = \n";
   r = StabilityLimit("--packing " + packing_ + " --parameters " + broken.string() + " --output " +
                      dir.string());
-  EXPECT_EQ(r.status, 3) << r.output;
+  EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("line 1"), std::string::npos) << r.output;
   EXPECT_TRUE(EmptyOrMissing(dir));
   // A directory as the parameter file is a file error (it was read as an empty file).
@@ -267,6 +284,20 @@ TEST_F(StabilityLimitCommand, FileErrorsExitWithThree) {
   r = StabilityLimit("--packing " + packing_ +
                      " --kn 7e10 --density 2000 --output /proc/specimen_no");
   EXPECT_EQ(r.status, 3) << r.output;
+}
+
+// A packing given as a pipe (a FIFO, or a shell's <(...)) is read once: it cannot be reopened.
+TEST_F(StabilityLimitCommand, ReadsAPackingFromAPipe) {
+  const fs::path dir = FreshDirectory("fifo");
+  fs::create_directories(dir);
+  const fs::path fifo = dir / "packing.fifo";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const std::string writer = "cat " + packing_ + " > " + fifo.string() + " &";
+  ASSERT_EQ(std::system(writer.c_str()), 0);
+  const Result r = StabilityLimit("--packing " + fifo.string() + " --kn 7e10 --density 2000 --no-pictures --output " +
+                                  (dir / "out").string());
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "out" / "packing_stability.json")) << r.output;
 }
 
 // The fifth sample run: the six-spring lattice of the packing. Its verdict follows its own

@@ -3,7 +3,7 @@
 CSV files and a plot of the error of every property against the strength round.
 
   tools/bench/calibration_bench.py [--build build] [--out bench-out/calibration]
-        [--twins 16] [--ddem-twins 6] [--twins-3d 0] [--count-3d 20000] [--seed 1]
+        [--twins 16] [--ddem-twins 6] [--first-twin 1] [--twins-3d 0] [--count-3d 20000] [--seed 1]
         [--only maps,twins,published,3d] [--reuse-shipped-maps]
 
 1. Maps (unless --reuse-shipped-maps): the bundled Labra rock (2D, rigid) and the bundled
@@ -281,6 +281,8 @@ def main():
     parser.add_argument("--out", default="bench-out/calibration")
     parser.add_argument("--twins", type=int, default=16, help="2D twin targets, rigid and DDEM")
     parser.add_argument("--ddem-twins", type=int, default=6, help="of the 2D twins, DDEM ones")
+    parser.add_argument("--first-twin", type=int, default=1,
+                        help="run the 2D twins from this one on (the earlier ones are drawn, not run)")
     parser.add_argument("--twins-3d", type=int, default=0)
     parser.add_argument("--count-3d", type=int, default=20000)
     parser.add_argument("--seed", type=int, default=1, help="of the hidden parameters")
@@ -298,6 +300,8 @@ def main():
         cases.add("3d")
     if not 0 <= args.ddem_twins <= args.twins:
         parser.error("--ddem-twins must be in [0, --twins]")
+    if not 1 <= args.first_twin <= max(1, args.twins):
+        parser.error("--first-twin must be in [1, --twins]")
     build = os.path.abspath(args.build)
     out = os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
@@ -343,6 +347,8 @@ def main():
         for i in range(args.twins):
             deformable = i >= args.twins - args.ddem_twins
             hidden = draw_hidden(rng, deformable, bound, 2)
+            if i + 1 < args.first_twin:
+                continue  # drawn, so that every twin keeps its hidden parameters
             d = os.path.join(out, "twin_%02d" % (i + 1))
             target = forward(build, packings, hidden, os.path.join(d, "forward"))
             label = "twin %d (%s kt/kn %.2f%s, Rt/Rn %.1f)" % (
