@@ -124,6 +124,11 @@ TEST_F(RunTestCommand, BadInputWritesNothing) {
       {"kind = \"ucs\"\npost_peak_fraction = 2\n", "post_peak_fraction = 2"},
       // An integer is not a boolean.
       {"kind = \"ucs\"\nquasi_static_check = 7\n", "true or false"},
+      // The step budget, before the first step: a platen speed a billion steps away, or a
+      // budget below what the test needs.
+      {"kind = \"ucs\"\nplaten_speed = 1e-12\n", "more than max_steps = 20000000"},
+      {"kind = \"ucs\"\nmax_steps = 100\n", "more than max_steps = 100"},
+      {"kind = \"ucs\"\nmax_steps = 0\n", "max_steps = 0"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.test);
@@ -145,6 +150,16 @@ TEST_F(RunTestCommand, BadInputWritesNothing) {
     EXPECT_NE(r.output.find("'normal_stiffness' is missing (the table has 'normal_stifness': misspelled?)"),
               std::string::npos)
         << r.output;
+  }
+  {  // kt for kn (a typo): the time step would follow kt, the platen speed kn
+    const fs::path dir = Scratch("kt");
+    std::ofstream(dir / "scene.toml") << "[specimen]\npacking = \"" << packing_
+                                      << "\"\n[material]\nnormal_stiffness = 1e-3\ntangential_stiffness = 2.5e9\n"
+                                         "density = 2000\n[test]\nkind = \"ucs\"\n";
+    const Result r = RunTest((dir / "scene.toml").string() + " --output " + (dir / "out").string());
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("kt/kn <= 10"), std::string::npos) << r.output;
+    EXPECT_TRUE(MissingOrEmpty(dir / "out"));
   }
   {  // nu_p without Ep would silently run rigid particles
     const fs::path dir = Scratch("nu_p");
@@ -266,6 +281,7 @@ TEST_F(RunTestCommand, LatticeBadInputWritesNothing) {
        "kind = \"ucs\"\n", "poisson_ratio"},
       {std::string(kLatticeMaterial) + "normal_stiffness = 1e10\n", "kind = \"ucs\"\n", "normal_stiffness"},
       {std::string(kLatticeMaterial) + "youngs_modulus_1 = 1e10\n", "kind = \"ucs\"\n", "either"},
+      {kLatticeMaterial, "kind = \"ucs\"\nmax_steps = 10\n", "more than max_steps = 10"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.test + c.material);
