@@ -127,6 +127,16 @@ const FieldNames kTestKeys = {
     {"time_step_safety_factor", "safety_factor"},
 };
 
+}  // namespace
+
+FieldNames SceneKeyNames() {
+  FieldNames names = kMaterialKeys;
+  names.insert(names.end(), kTestKeys.begin(), kTestKeys.end());
+  return names;
+}
+
+namespace {
+
 int DimensionOfDomain(const std::string& text) {
   std::istringstream in(text);
   std::string shape;

@@ -56,6 +56,7 @@
 #include <string>
 #include <vector>
 
+#include "common/field_names.h"
 #include "lab/lab_outputs.h"
 #include "lab/lab_test.h"
 #include "lab/lattice_lab_test.h"
@@ -92,5 +93,9 @@ LabScene ParseLabScene(const std::string& toml_text, const std::string& source);
 
 // Reads and parses `path`; FileError if it cannot be read.
 LabScene LoadLabScene(const std::string& path);
+
+// The library's field names of MaterialParameters and LabTestOptions as the scene keys that
+// set them, for InUserTerms (common/field_names.h): the messages of a run name the keys.
+FieldNames SceneKeyNames();
 
 }  // namespace specimen

@@ -122,6 +122,8 @@ LabTestResult RunLabTest(const Packing<Dim>& packing, const MaterialParameters& 
   if (!material.IsValid(&error)) throw InputError("material: " + error);
   const LabSpecimen<Dim> specimen =
       DescribeSpecimen<Dim>(packing, options.kind, options.strain_boundary_margin);
+  // Before the rates derived from kn and rho: a density of 1e-300 is a typo, not a wall speed.
+  if (!material.IsPhysical(Dim == 2 ? 1.0 : specimen.mean_radius_m, &error)) throw InputError("material: " + error);
 
   // 2. The material the simulation uses: scaled density, the protocol's damping.
   MaterialParameters used = material;

@@ -198,11 +198,21 @@ SceneOptions<Dim> StabilitySceneOf(const StabilityParameters& p, const Packing<D
   std::string error;
   if (!m.IsValid(&error)) throw InputError(error);
   if (p.time_step_s)
-    Require(*p.time_step_s > 0.0 && std::isfinite(*p.time_step_s), "time_step", *p.time_step_s,
+    Require(*p.time_step_s > 0.0 && std::isfinite(*p.time_step_s), "proposed_time_step_s", *p.time_step_s,
             "finite and > 0 [s]");
   scene.time_step.time_step_s = p.time_step_s.value_or(0.0);
 
-  // Walls on the particles' bounding box.
+  // Walls on the particles' bounding box; their values named as given, before the walls'
+  // own check (whose messages name a wall's fields).
+  if (p.wall_normal_stiffness_n_per_m)
+    Require(*p.wall_normal_stiffness_n_per_m > 0.0 && std::isfinite(*p.wall_normal_stiffness_n_per_m),
+            "wall_normal_stiffness", *p.wall_normal_stiffness_n_per_m, "finite and > 0 [N/m]");
+  if (p.wall_tangential_stiffness_n_per_m)
+    Require(*p.wall_tangential_stiffness_n_per_m >= 0.0 && std::isfinite(*p.wall_tangential_stiffness_n_per_m),
+            "wall_tangential_stiffness", *p.wall_tangential_stiffness_n_per_m, "finite and >= 0 [N/m]");
+  if (p.wall_friction)
+    Require(*p.wall_friction >= 0.0 && std::isfinite(*p.wall_friction), "wall_friction", *p.wall_friction,
+            "finite and >= 0");
   if (p.wall_sides && !p.wall_sides->empty()) {
     Vector<Dim> lower = packing.centres.front(), upper = lower;
     for (int q = 0; q < packing.size(); ++q)

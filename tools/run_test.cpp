@@ -167,5 +167,5 @@ int main(int argc, char** argv) {
     if (scene.dimension == 0) scene.dimension = file->dimension;
     const PackingFile* packing = file ? &*file : nullptr;
     return scene.dimension == 2 ? Run<2>(scene, packing, cl) : Run<3>(scene, packing, cl);
-  });
+  }, SceneKeyNames());
 }

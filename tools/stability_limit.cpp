@@ -88,6 +88,9 @@ const FieldNames kOptionNames = {
     {"failure_probability", "--failure-probability"},
     {"relative_tolerance", "the Lanczos tolerance (--tolerance / 100)"},
     {"num_threads", "--threads"},
+    {"wall_normal_stiffness", "the wall stiffness (--wall-stiffness, [walls] normal_stiffness)"},
+    {"wall_tangential_stiffness", "the wall kt (--wall-kt, [walls] tangential_stiffness)"},
+    {"wall_friction", "the wall friction (--wall-friction, [walls] friction)"},
 };
 
 // --threads 0: the cores the machine leaves idle (cores minus the 1-minute load average, at

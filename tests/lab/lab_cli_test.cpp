@@ -10,6 +10,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -151,14 +152,19 @@ TEST_F(RunTestCommand, BadInputWritesNothing) {
               std::string::npos)
         << r.output;
   }
-  {  // kt for kn (a typo): the time step would follow kt, the platen speed kn
-    const fs::path dir = Scratch("kt");
-    std::ofstream(dir / "scene.toml") << "[specimen]\npacking = \"" << packing_
-                                      << "\"\n[material]\nnormal_stiffness = 1e-3\ntangential_stiffness = 2.5e9\n"
-                                         "density = 2000\n[test]\nkind = \"ucs\"\n";
+  // Physical ranges, named by the scene's keys: kt for kn (a typo: the time step would follow
+  // kt, the platen speed kn), stiffnesses and densities that lose every digit or overflow.
+  for (const auto& [material, words] : std::vector<std::pair<std::string, std::string>>{
+           {"normal_stiffness = 1e-3\ntangential_stiffness = 2.5e9\ndensity = 2000\n", "kt/kn <= 10"},
+           {"normal_stiffness = 1e300\ndensity = 2000\n", "normal_stiffness (kn) = 1e+300 is not allowed"},
+           {"normal_stiffness = 1e10\ndensity = 1e-300\n", "density = 1e-300 is not allowed"}}) {
+    SCOPED_TRACE(material);
+    const fs::path dir = Scratch("ranges");
+    std::ofstream(dir / "scene.toml") << "[specimen]\npacking = \"" << packing_ << "\"\n[material]\n" << material
+                                      << "[test]\nkind = \"ucs\"\n";
     const Result r = RunTest((dir / "scene.toml").string() + " --output " + (dir / "out").string());
     EXPECT_EQ(r.status, 2) << r.output;
-    EXPECT_NE(r.output.find("kt/kn <= 10"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(words), std::string::npos) << r.output;
     EXPECT_TRUE(MissingOrEmpty(dir / "out"));
   }
   {  // nu_p without Ep would silently run rigid particles

@@ -217,7 +217,9 @@ TEST_F(StabilityLimitCommand, BadInputExitsWithTwoAndWritesNothing) {
       {"--kn 7e10 --density 2000 --Ep 2e11 --nu-p 0.6",
        "nu_p (--nu-p, [material] particle_poisson_ratio) = 0.6"},
       {"--kn 7e10 --density 2000 --plane cylinder", "plane_model = 'cylinder'"},
-      {"--kn 7e10 --density 2000 --dt -1", "time_step = -1"},
+      {"--kn 7e10 --density 2000 --dt -1", "the proposed time step (--dt, [time_step] time_step) = -1"},
+      {"--kn 7e10 --density 2000 --walls bottom --wall-kt 1e9 --wall-friction -1",
+       "the wall friction (--wall-friction, [walls] friction) = -1"},
       {"--kn 7e10 --density 2000 --safety 1.5", "(--safety, [time_step] safety_factor) = 1.5"},
       // A bad value given is rejected, never replaced by the default.
       {"--kn 7e10 --density 2000 --margin -5", "--margin"},
