@@ -21,10 +21,12 @@
 //    of Rt/Rn alone. Each round runs the UCS and Brazilian tests; the line correction through
 //    the rounds so far corrects the surfaces (output space mapping), and the next Rt/Rn solves
 //    the corrected ratio sigma_c / sigma_t = target inside a trust region about the best round
-//    so far; Rn then follows from the corrected groups. A round is accepted only if its
-//    weighted error (errors over their tolerances, squared) falls below the best; otherwise
-//    the region shrinks to half the rejected step, so no ratio swings across its box. The
-//    result is the best round, not the last.
+//    so far (between two rounds that bracket the target ratio, their secant, bent into a
+//    parabola by a third round); Rn then follows from the corrected groups. A round is
+//    accepted only if its weighted error (errors over their tolerances, squared) falls below
+//    the best. The region of Rt/Rn grows when a round's ratio came nearer the target than
+//    any before and otherwise shrinks to half the step, so no ratio swings across its box.
+//    The result is the best round, not the last.
 //
 //   CalibrationSolver solver(surrogate, target, options, &forward_model);
 //   const CalibrationReach& reach = solver.AssessReach();   // a few elastic runs
