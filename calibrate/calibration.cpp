@@ -538,11 +538,15 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
       summary.rigid_reach = rigid_solver->AssessReach();
     }
     const bool rigid_reaches = rigid_solver && !summary.rigid_reach.declared_out_of_reach();
-    // Within the rigid surfaces' interval, or only within their transfer uncertainty beyond it
-    // (the rounds would then measure it): a marginal target goes to DDEM when DDEM holds it
-    // inside its own interval (a DDEM twin: sigma_c / sigma_t 17.5 at nu 0.211, the rigid
+    // Within the rigid surfaces' interval, or only within the tolerance or their transfer
+    // uncertainty beyond it (the rounds would then measure it): a marginal target goes to
+    // DDEM when DDEM holds it inside its own interval (a DDEM twin: sigma_c / sigma_t 17.5 at nu 0.211, the rigid
     // surfaces' end 16.9 at the rigid limit of nu, measured 12.6 there).
-    const bool rigid_inside = rigid_solver && summary.rigid_reach.reachable();
+    auto inside = [&](const CalibrationReach& r) {  // the interval itself, no tolerance slack
+      return r.reachable() && target.StrengthRatio() >= r.strength_ratio_min &&
+             target.StrengthRatio() <= r.strength_ratio_max;
+    };
+    const bool rigid_inside = rigid_solver && inside(summary.rigid_reach);
     bool use_deformable = options.model == CalibrationModel::kDeformable;
     bool marginal = false;
     if (use_deformable || (options.model == CalibrationModel::kAutomatic && !rigid_inside)) {
@@ -552,7 +556,7 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
       summary.deformable_reach = deformable_solver->AssessReach();
       if (options.model == CalibrationModel::kAutomatic) {
         marginal = rigid_reaches;
-        use_deformable = rigid_reaches ? summary.deformable_reach.reachable()
+        use_deformable = rigid_reaches ? inside(summary.deformable_reach)
                                        : !summary.deformable_reach.declared_out_of_reach() ||
                                              CloserReach(summary.deformable_reach, summary.rigid_reach,
                                                          target.StrengthRatio());
@@ -565,8 +569,9 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
       std::snprintf(reason, sizeof(reason), "requested");
     } else if (marginal && use_deformable) {
       std::snprintf(reason, sizeof(reason),
-                    "rigid particles reach sigma_c/sigma_t %.3g at nu %.4g only within the maps' transfer "
-                    "uncertainty (%.3g to %.3g); DDEM holds it inside its interval (%.3g to %.3g)",
+                    "rigid particles reach sigma_c/sigma_t %.3g at nu %.4g only beyond their maps' interval "
+                    "(%.3g to %.3g), within the tolerance or the transfer uncertainty; DDEM holds it inside "
+                    "its interval (%.3g to %.3g)",
                     target.StrengthRatio(), target.poisson_ratio, r.strength_ratio_min, r.strength_ratio_max,
                     d.strength_ratio_min, d.strength_ratio_max);
     } else if (rigid_reaches) {
