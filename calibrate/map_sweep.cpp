@@ -17,6 +17,7 @@
 #include "common/error.h"
 #include "calibrate/intact_elastic.h"
 #include "generator/metrics.h"
+#include "common/format.h"
 
 namespace specimen {
 namespace {
@@ -385,7 +386,7 @@ MapSweep RunSweepPoints(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts
       std::snprintf(message, sizeof(message), "map sweep: point %d of %d (kt/kn %.3g, Rt/Rn %.3g%s) %s",
                     count, total, p.ratios.tangential_to_normal_stiffness, p.ratios.shear_to_tensile_strength,
                     p.ratios.normal_stiffness_to_particle > 0
-                        ? (", kn/(Ep l) " + std::to_string(p.ratios.normal_stiffness_to_particle)).c_str()
+                        ? (", kn/(Ep l) " + Number(p.ratios.normal_stiffness_to_particle)).c_str()
                         : "",
                     p.ok ? "done" : "failed");
       options.progress(static_cast<double>(count) / total, message);

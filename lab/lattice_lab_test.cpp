@@ -439,7 +439,7 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
     if (options.progress && result.curve.size() % 20 == 0)
       options.progress(std::min(1.0, point.boundary_strain / strain_limit),
                        "lattice " + std::string(LabTestKindName(options.kind)) + ": strain " +
-                           std::to_string(point.boundary_strain));
+                           Number(point.boundary_strain));
   }
   result.steps = step;
   result.simulated_time_s = step * dt;

@@ -6,6 +6,7 @@
 #include "common/error.h"
 #include "solver/particle_update.h"
 #include "solver/scene_state.h"
+#include "common/format.h"
 
 namespace specimen {
 
@@ -18,10 +19,10 @@ bool ForceIterationOptions::IsValid(std::string* error) const {
     return fail("max_iterations = " + std::to_string(max_iterations) +
                 " is not allowed: it must be >= 1");
   if (!(tolerance > 0.0 && tolerance < 1.0))
-    return fail("tolerance = " + std::to_string(tolerance) +
+    return fail("tolerance = " + Number(tolerance) +
                 " is not allowed: it must be in (0, 1)");
   if (!(divergence_factor > 1.0) || !std::isfinite(divergence_factor))
-    return fail("divergence_factor = " + std::to_string(divergence_factor) +
+    return fail("divergence_factor = " + Number(divergence_factor) +
                 " is not allowed: it must be finite and > 1");
   return true;
 }
@@ -106,7 +107,7 @@ ForceIterationSummary IterateDeformedContactForces(SceneState<Dim>& s,
     if (!std::isfinite(change) || change > options.divergence_factor * first_change) {
       summary.diverged = true;
       summary.termination = "diverged: the force change grew by more than " +
-                            std::to_string(options.divergence_factor) +
+                            Number(options.divergence_factor) +
                             " (Madan (3.13): rho(B) > 1)";
       return summary;
     }

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "solver/lattice_packing.h"
+#include "common/format.h"
 
 namespace specimen {
 namespace {
@@ -12,15 +13,15 @@ constexpr double kPi = 3.14159265358979323846;
 
 bool LatticeStrength::IsValid(std::string* error) const {
   if (!(tensile_strength_pa > 0.0 && std::isfinite(tensile_strength_pa))) {
-    *error = "tensile_strength = " + std::to_string(tensile_strength_pa) + ": must be a positive stress [Pa]";
+    *error = "tensile_strength = " + Number(tensile_strength_pa) + ": must be a positive stress [Pa]";
     return false;
   }
   if (!(cohesion_pa > 0.0 && std::isfinite(cohesion_pa))) {
-    *error = "cohesion = " + std::to_string(cohesion_pa) + ": must be a positive stress [Pa]";
+    *error = "cohesion = " + Number(cohesion_pa) + ": must be a positive stress [Pa]";
     return false;
   }
   if (!(friction_angle_deg >= 0.0 && friction_angle_deg <= 60.0)) {
-    *error = "friction_angle = " + std::to_string(friction_angle_deg) + ": must be in [0, 60] degrees";
+    *error = "friction_angle = " + Number(friction_angle_deg) + ": must be in [0, 60] degrees";
     return false;
   }
   return true;

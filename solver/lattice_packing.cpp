@@ -11,6 +11,7 @@
 
 #include "common/error.h"
 #include "generator/contact_graph.h"
+#include "common/format.h"
 
 namespace specimen {
 namespace {
@@ -34,11 +35,11 @@ std::uint64_t EdgeKey(int i, int j) {
 
 bool PackingLatticeOptions::IsValid(std::string* error) const {
   if (!(surface_gap >= 0.0 && surface_gap <= 1.0)) {
-    *error = "surface_gap = " + std::to_string(surface_gap) + ": must be in [0, 1] (share of the mean radius)";
+    *error = "surface_gap = " + Number(surface_gap) + ": must be in [0, 1] (share of the mean radius)";
     return false;
   }
   if (!(min_hull_angle_deg >= 0.0 && min_hull_angle_deg <= 40.0)) {
-    *error = "min_hull_angle_deg = " + std::to_string(min_hull_angle_deg) + ": must be in [0, 40] degrees";
+    *error = "min_hull_angle_deg = " + Number(min_hull_angle_deg) + ": must be in [0, 40] degrees";
     return false;
   }
   return true;

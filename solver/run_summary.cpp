@@ -1,4 +1,5 @@
 #include "solver/run_summary.h"
+#include "common/format.h"
 
 #include <cmath>
 #include <cstdio>
@@ -15,12 +16,12 @@ bool RunOptions::IsValid(std::string* error) const {
   if (max_steps < 0)
     return fail("max_steps = " + std::to_string(max_steps) + " is not allowed: it must be >= 0");
   if (!(duration_s >= 0.0) || !std::isfinite(duration_s))
-    return fail("duration_s = " + std::to_string(duration_s) +
+    return fail("duration_s = " + Number(duration_s) +
                 " is not allowed: it must be finite and >= 0");
   if (max_steps == 0 && duration_s == 0.0)
     return fail("a run needs a bound: max_steps > 0 or duration_s > 0");
   if (!(static_force_ratio >= 0.0) || !std::isfinite(static_force_ratio))
-    return fail("static_force_ratio = " + std::to_string(static_force_ratio) +
+    return fail("static_force_ratio = " + Number(static_force_ratio) +
                 " is not allowed: it must be finite and >= 0 (0 = no static stop)");
   if (static_check_interval < 1)
     return fail("static_check_interval = " + std::to_string(static_check_interval) +

@@ -15,7 +15,7 @@ const double kSqrt3 = std::sqrt(3.0);
 void CheckPoisson(double nu, PlaneModel model, const char* field) {
   const double upper = model == PlaneModel::kPlaneStrain ? 0.5 : 1.0;
   if (!(nu > -1.0 && nu < upper)) {
-    throw InputError(std::string(field) + " = " + std::to_string(nu) + ": must lie in (-1, " +
+    throw InputError(std::string(field) + " = " + Number(nu) + ": must lie in (-1, " +
                      (model == PlaneModel::kPlaneStrain ? "0.5" : "1") + ") for " + PlaneModelName(model));
   }
 }
@@ -89,7 +89,7 @@ bool PlaneElasticity::IsPositiveDefinite() const {
 
 PlaneElasticity IsotropicPlaneElasticity(double youngs_modulus_pa, double poisson_ratio, PlaneModel model) {
   if (!(youngs_modulus_pa > 0.0 && std::isfinite(youngs_modulus_pa))) {
-    throw InputError("youngs_modulus = " + std::to_string(youngs_modulus_pa) + ": must be a positive number [Pa]");
+    throw InputError("youngs_modulus = " + Number(youngs_modulus_pa) + ": must be a positive number [Pa]");
   }
   CheckPoisson(poisson_ratio, model, "poisson_ratio");
   double e = youngs_modulus_pa, nu = poisson_ratio;
