@@ -915,6 +915,7 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
         // without it a rejected overshoot shrinks the region away from the root (a DDEM twin:
         // ratio 16.5 at Rt/Rn 4.2, 8.3 at 1, target 12.2, then four rounds inside [2.6, 5.8]).
         double below_x = -1.0, below_ratio = -1e300, above_x = -1.0, above_ratio = 1e300;
+        double one_sided_bound = -1.0;  // set when every round of the line lies on one side
         for (const StrengthRound& r : rounds) {
           if (r.elastic_set != line_id) continue;
           const double rr = std::log(r.measured.ucs_pa / r.measured.tensile_strength_pa), rx = Get(r.ratios, kX);
@@ -926,6 +927,27 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
           hi = std::min(x_hi, above_x);
           best_x = std::clamp(best_x, lo, hi);
           step << "; bracketed by the rounds at Rt/Rn " << Number("%.4g", below_x) << " and " << Number("%.4g", above_x);
+        } else if (below_x > 0.0 || above_x > 0.0) {
+          // Every round of the line on one side of the target: the root lies beyond the last
+          // of them on that side, whatever the surfaces say past the others (a DDEM twin on
+          // rigid particles: 16.6 at Rt/Rn 4.39 and 16.4 at 2.85 against 13.4; the surfaces,
+          // bent at the box end, sent the next round to 7.9).
+          double& bound = one_sided_bound;
+          bound = above_x > 0.0 ? x_hi : x_lo;
+          for (const StrengthRound& r : rounds)
+            if (r.elastic_set == line_id)
+              bound = above_x > 0.0 ? std::min(bound, Get(r.ratios, kX)) : std::max(bound, Get(r.ratios, kX));
+          const double reach = std::max(trust, 0.02 * width);
+          if (above_x > 0.0) {
+            hi = std::min(hi, bound);
+            if (!(lo < hi)) lo = std::max(x_lo, hi - reach);
+          } else {
+            lo = std::max(lo, bound);
+            if (!(lo < hi)) hi = std::min(x_hi, lo + reach);
+          }
+          best_x = std::clamp(best_x, lo, hi);
+          step << "; every round " << (above_x > 0.0 ? "above" : "below") << " the target ratio: Rt/Rn "
+               << (above_x > 0.0 ? "below " : "above ") << Number("%.4g", bound);
         }
         auto predicted_within = [&](double v) {
           double log_rn, c, t;
@@ -945,6 +967,14 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
             next = best_x + d;
             break;
           }
+        }
+        // The corrected line finds no root short of the one-sided bound and nothing there meets
+        // the tolerances (the line is wrong past the bound: the rounds put the root beyond it):
+        // the geometric middle of what remains.
+        if (one_sided_bound > 0.0 && std::abs(std::log(next / one_sided_bound)) <= 1e-6 && !predicted_within(next)) {
+          next = std::sqrt(lo * hi);
+          step << ", where the corrected maps find no root: the middle of [" << Number("%.4g", lo) << ", "
+               << Number("%.4g", hi) << "]";
         }
       } else {
         if (!(given_up_x >= x_lo)) given_up_x = ratio_x(x_lo, x_hi, x);
