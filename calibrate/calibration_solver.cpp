@@ -580,7 +580,8 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
         // parabola through the three (in ln Rt/Rn): the ratio of a real specimen saturates
         // as tension takes over, and a secant from a far end of the bracket then steps short
         // round after round (a DDEM twin: 8.6 at Rt/Rn 1, 14.3 at 2.49, 16.1 at 4.53, target
-        // 12.2; the secants went 2.49, 1.99, 1.89, the parabola gives 1.72 at once). Kept
+        // 12.2; the secants went on to 1.99 and 1.89, the parabola put round 4 at 1.83, which
+        // met). Kept
         // only where it stays between the pair's values, as a monotone curve does, and from a
         // round at least a quarter of the pair's span beyond it: two rounds close together
         // bend the parabola by their path noise, not by the curve.

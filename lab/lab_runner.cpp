@@ -440,13 +440,11 @@ LabTestResult LabRun<Dim>::Run() {
   const double travel_m = strain_limit_ * (gap0_ > 0.0 ? gap0_ : specimen_.height_m);
   const double steps_needed = travel_m / (2.0 * speed_) / simulation_->time_step_s() + ramp_s_ / simulation_->time_step_s();
   if (!(steps_needed <= static_cast<double>(options_.max_steps)))
-    throw InputError("the test would need about " + Number(steps_needed) + " steps to reach its strain limit " +
-                     Number(strain_limit_) + " (platen speed " + Number(speed_) + " m/s, time step " +
-                     Number(simulation_->time_step_s()) + " s), more than max_steps = " +
-                     std::to_string(options_.max_steps) + ": raise the loading rate or the platen speed, or check "
-                     "kn and kt (kt/kn = " +
-                     Number(material_.tangential_stiffness_n_per_m / material_.normal_stiffness_n_per_m) +
-                     "; the time step follows the stiffer of the two)");
+    throw InputError(StepBudgetRefusal(
+        steps_needed, strain_limit_, speed_, simulation_->time_step_s(), options_.max_steps,
+        ", or check kn and kt (kt/kn = " +
+            Number(material_.tangential_stiffness_n_per_m / material_.normal_stiffness_n_per_m) +
+            "; the time step follows the stiffer of the two)"));
   if (Confined()) {
     Consolidate();
     gap0_ = WallGap(0, 1);

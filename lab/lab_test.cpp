@@ -113,6 +113,14 @@ bool LabTestOptions::IsValid(std::string* error) const {
   return true;
 }
 
+std::string StepBudgetRefusal(double steps_needed, double strain_limit, double speed_m_per_s, double time_step_s,
+                              long max_steps, const std::string& hint) {
+  return "the test would need about " + Number(steps_needed) + " steps to reach its strain limit " +
+         Number(strain_limit) + " (platen speed " + Number(speed_m_per_s) + " m/s, time step " + Number(time_step_s) +
+         " s), more than max_steps = " + std::to_string(max_steps) + ": raise the loading rate or the platen speed" +
+         hint;
+}
+
 template <int Dim>
 LabTestResult RunLabTest(const Packing<Dim>& packing, const MaterialParameters& material,
                          const LabTestOptions& options) {

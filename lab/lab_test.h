@@ -150,6 +150,11 @@ bool ParseLabTestKind(const std::string& name, LabTestKind* kind);
 // Strength tests run through a peak; the modulus tests (isotropic, shear) to strain_limit.
 bool IsStrengthTest(LabTestKind kind);
 
+// The message of a test refused by its step budget (LabTestOptions::max_steps) before the first
+// step, for the bonded and the lattice tests; `hint` says what else to check.
+std::string StepBudgetRefusal(double steps_needed, double strain_limit, double speed_m_per_s, double time_step_s,
+                              long max_steps, const std::string& hint);
+
 struct LabTestOptions {
   LabTestKind kind = LabTestKind::kUniaxialCompression;
 
@@ -195,7 +200,6 @@ struct LabTestOptions {
   // Step budget of one test, >= 1: a test that would need more steps to reach its strain
   // limit at V is refused before the first step (a typo in kn or kt, or a tiny platen speed,
   // can ask for billions), and a test that passes it (pauses included) stops with an error.
-  // A UCS of the example scene (5,000 discs) takes about 2.5e5 steps, pauses included.
   long max_steps = 20000000;
 
   // --- Measurement ---

@@ -283,10 +283,7 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
   const double steps_needed =
       std::ceil((strain_limit * height / 2.0 + speed * ramp + speed * consolidation) / (speed * dt)) + 10.0;
   if (!(steps_needed <= static_cast<double>(options.max_steps)))  // the budget, before any step
-    throw InputError("the test would need about " + Number(steps_needed) + " steps to reach its strain limit " +
-                     Number(strain_limit) + " (platen speed " + Number(speed) + " m/s, time step " + Number(dt) +
-                     " s), more than max_steps = " + std::to_string(options.max_steps) +
-                     ": raise the loading rate or the platen speed");
+    throw InputError(StepBudgetRefusal(steps_needed, strain_limit, speed, dt, options.max_steps, ""));
   const long max_steps = static_cast<long>(steps_needed);
   // The energy audit: triangles' V sigma:eps / 2 (particle_elastic), the Brazilian platens'
   // penalty (contact_elastic), the platens' work, local damping, and the energy of each

@@ -364,9 +364,10 @@ TEST(CalibrationSolver, ASteeperRatioThanTheMapsIsFoundBetweenTheBracketingRound
 }
 
 // A ratio that rises steeply at small Rt/Rn and saturates (concave in logarithms) where the maps
-// have it nearly flat, as a DDEM twin of the default specimen measured: the bracket's secant
-// from its far end steps short (round 3 misses by up to 8 % in the ratio), the parabola through
-// three rounds and the repeated-Rt/Rn step bring it in: within five rounds.
+// have it nearly flat, as a DDEM twin of the default specimen measured: the secant from the
+// bracket's far end steps short (round 3 misses by up to 8 % in the ratio), yet the loop still
+// converges within five rounds. (A convergence test of this shape, not of the parabola alone:
+// on these targets the rounds come out the same without it.)
 TEST(CalibrationSolver, ASaturatingRatioConvergesFromTheBracket) {
   const double hidden[][2] = {{0.3, 3.3}, {0.5, 2.5}, {0.25, 4.0}, {0.4, 3.0}, {0.6, 3.5}, {0.45, 2.8}};
   unsigned seed = 91;
