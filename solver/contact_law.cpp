@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solver/bond_moment.h"
 #include "solver/scene_state.h"
 #include "solver/step_plan.h"
 
@@ -34,6 +35,7 @@ void ContactArrays<Dim>::Clear() {
   force.clear();
   normal_elastic_force.clear();
   tangential_force.clear();
+  bond_moment.clear();
 }
 
 template <int Dim>
@@ -45,6 +47,7 @@ void ContactArrays<Dim>::Reserve(size_t count) {
   force.reserve(count);
   normal_elastic_force.reserve(count);
   if (tangential_enabled) tangential_force.reserve(count);
+  if (moments_enabled) bond_moment.reserve(count);
 }
 
 template <int Dim>
@@ -56,6 +59,7 @@ void ContactArrays<Dim>::AppendCopy(const ContactArrays& other, int c) {
   force.push_back(other.force[c]);
   normal_elastic_force.push_back(other.normal_elastic_force[c]);
   if (tangential_enabled) tangential_force.push_back(other.tangential_force[c]);
+  if (moments_enabled) bond_moment.push_back(other.bond_moment[c]);
 }
 
 template <int Dim>
@@ -68,6 +72,7 @@ void ContactArrays<Dim>::AppendNew(int i, int j, ContactState new_state, double 
   force.push_back(Vector<Dim>::Zero());
   normal_elastic_force.push_back(0.0);
   if (tangential_enabled) tangential_force.push_back(Vector<Dim>::Zero());
+  if (moments_enabled) bond_moment.push_back(ZeroAngular<Dim>());
 }
 
 template <int Dim>
@@ -134,7 +139,8 @@ namespace {
 
 constexpr int kPrefetchDistance = 8;
 
-template <int Dim, bool kDeformable, bool kBreakable, bool kTangential, bool kDashpot>
+template <int Dim, bool kDeformable, bool kBreakable, bool kTangential, bool kMoment,
+          bool kDashpot>
 void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
   const ParticleArrays<Dim>& p = s.particles;
   ContactArrays<Dim>& c = s.contacts;
@@ -158,7 +164,9 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
   [[maybe_unused]] Vector<Dim>* const forces = c.force.data();
   [[maybe_unused]] double* const normal_forces = c.normal_elastic_force.data();
   [[maybe_unused]] Vector<Dim>* const tangential_forces = c.tangential_force.data();
+  [[maybe_unused]] Angular<Dim>* const bond_moments = c.bond_moment.data();
   const double kn = law.normal_stiffness, kt = law.tangential_stiffness, dt = law.time_step;
+  [[maybe_unused]] const double bond_radius_ratio = law.bond_radius_ratio;
   const double tensile_strength = law.tensile_strength;
   const double shear_strength_squared = law.shear_strength * law.shear_strength;
   const double friction = law.friction;
@@ -181,7 +189,7 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
       const int ahead = pairs[k + kPrefetchDistance][1];
       __builtin_prefetch(positions + ahead);
       if constexpr (kTangential || kDashpot) __builtin_prefetch(velocities + ahead);
-      if constexpr (kTangential) __builtin_prefetch(spins + ahead);
+      if constexpr (kTangential || kMoment) __builtin_prefetch(spins + ahead);
       if constexpr (kDeformable) __builtin_prefetch(deformations + ahead);
     }
     const int i = pairs[k][0], j = pairs[k][1];
@@ -239,16 +247,48 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
            (kt * dt) * tangential_velocity;
     }
 
+    // The moment of a bond (bond_moment.h): the stored one turned with the pair, plus the
+    // stiffness times the relative rotation of the step.
+    [[maybe_unused]] Angular<Dim> moment = ZeroAngular<Dim>();
+    [[maybe_unused]] BondSection<Dim> section;
+    if constexpr (kMoment) {
+      if (state == ContactState::kBonded) {
+        section = BondSectionOf<Dim>(ri, rj, bond_radius_ratio, kn, kt);
+        moment = bond_moments[k];
+        if constexpr (Dim == 3) {
+          const Vector<3>& old_normal = normals[k];
+          const double twisting = moment.dot(old_normal);
+          const double pair_twist = 0.5 * dt * (spins[i] + spins[j]).dot(n);
+          moment = RotateTangentialForceInline(Vector<3>(moment - twisting * old_normal),
+                                               old_normal, n, pair_twist) +
+                   twisting * n;
+        }
+        moment += BondMomentIncrement(Angular<Dim>((spins[j] - spins[i]) * dt), n, section);
+      }
+    }
+
     [[maybe_unused]] bool broke = false;
     if constexpr (kBreakable) {
       if (state == ContactState::kBonded) {
-        // Labra (2.34)-(2.35), Madan (2.38)-(2.39): instantaneous, irreversible failure.
-        const bool tension = fn > tensile_strength;
-        bool shear = false;
-        if constexpr (kTangential) shear = ft.squaredNorm() > shear_strength_squared;
+        // Labra (2.34)-(2.35), Madan (2.38)-(2.39): instantaneous, irreversible failure; a
+        // bond with a moment on the peripheral stress of its section (bond_moment.h).
+        bool tension = false, shear = false;
+        if constexpr (kMoment) {
+          tension = PeripheralTension<Dim>(fn, moment, n, section) > tensile_strength;
+          double ft_norm = 0.0;
+          if constexpr (kTangential) ft_norm = ft.norm();
+          shear = PeripheralShear<Dim>(ft_norm, moment, n, section) > law.shear_strength;
+        } else {
+          tension = fn > tensile_strength;
+          if constexpr (kTangential) shear = ft.squaredNorm() > shear_strength_squared;
+        }
         if (tension || shear) {
           double bond_energy = 0.5 * fn * fn * inverse_kn;
           if constexpr (kTangential) bond_energy += 0.5 * ft.squaredNorm() * inverse_kt;
+          if constexpr (kMoment) {
+            bond_energy += BondMomentEnergy<Dim>(moment, n, section);
+            moment = ZeroAngular<Dim>();  // a broken bond carries no moment
+          }
           breakage_release += bond_energy;  // the unbonded state's energy is subtracted below
           state = tension ? ContactState::kBrokenInTension : ContactState::kBrokenInShear;
           states[k] = state;
@@ -310,6 +350,7 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
     forces[k] = force;
     normal_forces[k] = fn;
     if constexpr (kTangential) tangential_forces[k] = ft;
+    if constexpr (kMoment) bond_moments[k] = moment;
     const double magnitude_squared = force.squaredNorm();
     max_force_squared = std::max(max_force_squared, magnitude_squared);
     sum_force_squared += magnitude_squared;
@@ -326,16 +367,23 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
   totals->finite = std::isfinite(sum_force_squared);
 }
 
-template <int Dim, bool kDeformable, bool kBreakable, bool kTangential>
+template <int Dim, bool kDeformable, bool kBreakable, bool kTangential, bool kMoment>
 ContactPassFunction<Dim> SelectDashpot(bool dashpots) {
-  if (dashpots) return &ContactPass<Dim, kDeformable, kBreakable, kTangential, true>;
-  return &ContactPass<Dim, kDeformable, kBreakable, kTangential, false>;
+  if (dashpots) return &ContactPass<Dim, kDeformable, kBreakable, kTangential, kMoment, true>;
+  return &ContactPass<Dim, kDeformable, kBreakable, kTangential, kMoment, false>;
+}
+
+template <int Dim, bool kDeformable, bool kBreakable, bool kTangential>
+ContactPassFunction<Dim> SelectMoment(const StepPlan& plan) {
+  if (plan.bond_moments)
+    return SelectDashpot<Dim, kDeformable, kBreakable, kTangential, true>(plan.dashpots);
+  return SelectDashpot<Dim, kDeformable, kBreakable, kTangential, false>(plan.dashpots);
 }
 
 template <int Dim, bool kDeformable, bool kBreakable>
 ContactPassFunction<Dim> SelectTangential(const StepPlan& plan) {
-  if (plan.tangential) return SelectDashpot<Dim, kDeformable, kBreakable, true>(plan.dashpots);
-  return SelectDashpot<Dim, kDeformable, kBreakable, false>(plan.dashpots);
+  if (plan.tangential) return SelectMoment<Dim, kDeformable, kBreakable, true>(plan);
+  return SelectMoment<Dim, kDeformable, kBreakable, false>(plan);
 }
 
 template <int Dim, bool kDeformable>

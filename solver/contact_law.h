@@ -3,7 +3,8 @@
 // global constants kn, kt, Rn, Rt), and after breakage a compression-only contact with
 // Coulomb friction by radial return (Labra (2.20)-(2.23), (2.36)-(2.37)); contact dashpots
 // (Madan (2.33)-(2.37)); in DDEM scenes the normal force acts on the deformed overlap
-// (Madan (2.53)-(2.54)).
+// (Madan (2.53)-(2.54)). Bonds may carry a moment and fail on the peripheral stress of their
+// section (bond_moment.h).
 //
 // Conventions (docs/solver.md, "Conventions"): n = (xj - xi)/|xj - xi|; gap
 // g = |xj - xi| - ri - rj - g0 (g0: the initial gap of a bond created stress-free, else 0);
@@ -14,7 +15,8 @@
 //
 // Contacts live in flat arrays (ContactArrays). The contact pass is one loop over them,
 // instantiated for each combination of the scene's stages (deformable, breakable,
-// tangential, dashpots) and chosen once before the time loop (SelectContactPass).
+// tangential, bond moments, dashpots) and chosen once before the time loop
+// (SelectContactPass).
 
 #include <array>
 #include <cstdint>
@@ -53,10 +55,15 @@ struct ContactArrays {
   // Elastic tangential (spring) force on i [N], in the plane normal to `normal`. Empty
   // when the scene has no tangential stage (kt = 0).
   std::vector<Vector<Dim>> tangential_force;
+  // Moment of a bond on i [N m] (j receives its opposite; bond_moment.h); zero for unbonded
+  // contacts. Empty when bonds carry no moment.
+  std::vector<Angular<Dim>> bond_moment;
 
   int size() const { return static_cast<int>(pair.size()); }
   bool has_tangential() const { return tangential_enabled; }
+  bool has_bond_moments() const { return moments_enabled; }
   bool tangential_enabled = false;
+  bool moments_enabled = false;
 
   void Clear();
   void Reserve(size_t count);
@@ -75,6 +82,7 @@ struct ContactLawConstants {
   double tensile_strength = 0.0;          // Rn [N]
   double shear_strength = 0.0;            // Rt [N]
   double friction = 0.0;                  // mu
+  double bond_radius_ratio = 0.0;         // lambda (bond_moment.h)
   double normal_dashpot_ratio = 0.0;      // xi_n
   double tangential_dashpot_ratio = 0.0;  // xi_t
   double time_step = 0.0;                 // dt [s]

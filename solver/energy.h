@@ -23,7 +23,9 @@ namespace specimen {
 struct EnergyBalance {
   // State terms at t_n [J].
   double kinetic_j = 0.0;           // translation + rotation (+ force-driven walls)
-  double contact_elastic_j = 0.0;   // sum fn^2/(2 kn) + |ft|^2/(2 kt), contacts and walls
+  // sum fn^2/(2 kn) + |ft|^2/(2 kt), contacts and walls, and the bonds' moment energy
+  // |Mb|^2/(2 kb) + Mt^2/(2 kw) (bond_moment.h)
+  double contact_elastic_j = 0.0;
   double particle_elastic_j = 0.0;  // DDEM: sum 1/2 V sigma : eps, Madan (2.61)
   double initial_total_j = 0.0;     // kinetic + elastic at t = 0
   // Path terms since t = 0 [J].

@@ -79,7 +79,14 @@ void PointLoadPass(SceneState<Dim>& s, bool deformable, bool rotation, PointLoad
         }
       }
       if (s.step > 0) {
-        const double increment = 0.5 * (previous + force).dot(p.velocity[q]) * dt;
+        double increment = 0.5 * (previous + force).dot(p.velocity[q]) * dt;
+        // The moment of an eccentric load works on the particle's rotation (the arm is fixed
+        // in space: the load is applied at the point of direction d whatever the spin).
+        if (at_surface && rotation) {
+          const Vector<Dim> arm = p.radius[q] * load.application_direction;
+          increment += 0.5 * AngularDot(Cross(arm, Vector<Dim>(previous + force)),
+                                        p.angular_velocity[q]) * dt;
+        }
         work->centre_j += increment;
         work->supplied_j += std::abs(increment);
       }

@@ -81,7 +81,9 @@ struct PointLoadWork {
 
 // Adds the point loads at t_n to the particles' external force, moment and (DDEM) surface
 // moment accumulators, and their work:
-//  - on the centres, trapezoidal over the last step: (F(t_{n-1}) + F(t_n))/2 . v_{n-1/2} dt;
+//  - on the centres, trapezoidal over the last step: (F(t_{n-1}) + F(t_n))/2 . v_{n-1/2} dt,
+//    and for a load at a surface point on a rotating particle its moment's
+//    (s x F(t_{n-1}) + s x F(t_n))/2 . w_{n-1/2} dt;
 //  - DDEM, on the deformation of the load point: trapezoidal over the strain change of the
 //    previous step, (F_then + F(t_{n-1}))/2 . (eps_{n-1} - eps_then) s (the strain of t_{n-1}
 //    is the latest known; PendingDeformationWork() adds the last increment for reports).

@@ -29,6 +29,9 @@ bool MaterialParameters::IsValid(std::string* error) const {
                 "> 0 (infinity = unbreakable)");
   if (!(friction_coefficient >= 0.0) || !std::isfinite(friction_coefficient))
     return fail("friction_coefficient (mu)", friction_coefficient, "finite and >= 0");
+  if (!(bond_radius_ratio >= 0.0 && bond_radius_ratio <= 1.0))
+    return fail("bond_radius_ratio (lambda)", bond_radius_ratio,
+                "in [0, 1] (0: bonds without moment)");
   if (!(density_kg_per_m3 > 0.0) || !std::isfinite(density_kg_per_m3))
     return fail("density_kg_per_m3", density_kg_per_m3, "finite and > 0");
   // Above 10 the tangential springs set the time step while the normal ones set the loading

@@ -35,6 +35,10 @@ struct MaterialParameters {
   double bond_shear_strength_n = std::numeric_limits<double>::infinity();
   // Coulomb friction coefficient mu of unbonded contacts, >= 0 (Labra (2.21)-(2.23)).
   double friction_coefficient = 0.0;
+  // Bond radius over the smaller particle radius, lambda in [0, 1]. 0: Labra's contact bond
+  // (no moment); > 0: the bond also resists relative rotation and fails on the peripheral
+  // stress of its section (bond_moment.h, after Potyondy & Cundall 2004).
+  double bond_radius_ratio = 0.0;
 
   // --- Particles ---
   // Particle density rho [kg/m^3], > 0. 2D: m = rho pi R^2 l with l = 1 m.
@@ -68,6 +72,7 @@ struct MaterialParameters {
   double mass_scaling_budget = 0.0;
 
   bool deformable() const { return particle_youngs_modulus_pa.has_value(); }
+  bool bonds_carry_moments() const { return bond_radius_ratio > 0.0; }
   bool breakable() const {
     return std::isfinite(bond_tensile_strength_n) ||
            (tangential_stiffness_n_per_m > 0.0 && std::isfinite(bond_shear_strength_n));

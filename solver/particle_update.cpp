@@ -98,7 +98,7 @@ constexpr int kPrefetchEntries = 12;
 static_assert(kPrefetchEntries <= kAdjacencyPadding, "the prefetch reads past the adjacency");
 
 template <int Dim, bool kDeformable, bool kDamping, bool kRotation, bool kExternal,
-          bool kConstraints>
+          bool kConstraints, bool kBondMoments>
 void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
   using Matrix = Eigen::Matrix<double, Dim, Dim>;
   ParticleArrays<Dim>& p = s.particles;
@@ -108,6 +108,7 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
   [[maybe_unused]] const int* const entry = s.adjacency.entry.data();
   [[maybe_unused]] const Vector<Dim>* const forces = c.force.data();
   [[maybe_unused]] const Vector<Dim>* const normals = c.normal.data();
+  [[maybe_unused]] const Angular<Dim>* const bond_moments = c.bond_moment.data();
   [[maybe_unused]] Vector<Dim>* const positions = p.position.data();
   [[maybe_unused]] Vector<Dim>* const velocities = p.velocity.data();
   [[maybe_unused]] Angular<Dim>* const spins = p.angular_velocity.data();
@@ -165,6 +166,8 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
     // off-diagonal products, the same way, so that an infinitely stiff DDEM particle turns
     // exactly as a rigid one, and DDEM gets its torque from the moment's sums.
     [[maybe_unused]] ProductSums<Dim> sums;
+    // Bond couples (bond_moment.h): M on i, -M on j.
+    [[maybe_unused]] Angular<Dim> couple = ZeroAngular<Dim>();
     const int entry_end = offset[q + 1];
     for (int e = offset[q]; e < entry_end; ++e) {
       // The contacts where q is j lie far from its own (they sit with i's): fetch the force
@@ -179,7 +182,9 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
       const Vector<Dim>& f = forces[k];
       // j receives -f. A multiplication by +-1 (exact), not a branch: the side of a contact
       // end is not predictable.
-      force += (1.0 - 2.0 * (entry[e] & 1)) * f;
+      const double side = 1.0 - 2.0 * (entry[e] & 1);
+      force += side * f;
+      if constexpr (kBondMoments) couple += side * bond_moments[k];
       if constexpr (kDeformable)
         sums.AddAll(normals[k], f);
       else if constexpr (kRotation)
@@ -187,6 +192,7 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
     }
     [[maybe_unused]] Angular<Dim> torque = ZeroAngular<Dim>();
     if constexpr (kRotation) torque = r * sums.Axial();
+    if constexpr (kBondMoments) torque += couple;
     // DDEM: the moment sum s (x) f = r M plus the external surface moments.
     [[maybe_unused]] Matrix moment;
     [[maybe_unused]] double moment_scale = r;
@@ -329,7 +335,7 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
 // Dispatch on the run-time plan, once: each level fixes one template flag.
 template <int Dim, bool... kFlags>
 ParticlePassFunction<Dim> Select(const bool* flags, int remaining) {
-  if constexpr (sizeof...(kFlags) == 5) {
+  if constexpr (sizeof...(kFlags) == 6) {
     (void)flags;
     (void)remaining;
     return &ParticlePass<Dim, kFlags...>;
@@ -343,9 +349,10 @@ ParticlePassFunction<Dim> Select(const bool* flags, int remaining) {
 
 template <int Dim>
 ParticlePassFunction<Dim> SelectParticlePass(const StepPlan& plan) {
-  const bool flags[5] = {plan.deformable, plan.local_damping, plan.rotation, plan.external(),
-                         plan.fixed_dofs};
-  return Select<Dim>(flags, 5);
+  // Bond couples need the rotation stage (ChooseStages turns it on with them).
+  const bool flags[6] = {plan.deformable,  plan.local_damping, plan.rotation,
+                         plan.external(),  plan.fixed_dofs,    plan.bond_moments && plan.rotation};
+  return Select<Dim>(flags, 6);
 }
 
 template <int Dim>

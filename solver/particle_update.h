@@ -1,8 +1,9 @@
 #pragma once
 // The particle update: one loop over the particles that
-//  1. sums the contact forces and moments of the step (gathered through the particle ->
-//     contact adjacency, so the loop is race-free and its sums deterministic) and the
-//     external actions of walls and point loads (Madan (2.5)-(2.6));
+//  1. sums the contact forces and moments of the step, and the couples of bonds that carry
+//     one (bond_moment.h) (gathered through the particle -> contact adjacency, so the loop is
+//     race-free and its sums deterministic) and the external actions of walls and point
+//     loads (Madan (2.5)-(2.6));
 //  2. DDEM: forms the particle stress from those forces, symmetrised (Madan (2.41),
 //     (2.44)-(2.45)), and the strain eps = D sigma (2.46)-(2.49) that the next step's
 //     contact pass reads (the explicit variant of Madan (3.17));

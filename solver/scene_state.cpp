@@ -129,6 +129,7 @@ void RenumberParticles(SceneState<Dim>& s, const std::vector<int>& new_of_old,
   ContactArrays<Dim>& sorted = s.contacts_scratch;
   sorted.Clear();
   sorted.tangential_enabled = c.tangential_enabled;
+  sorted.moments_enabled = c.moments_enabled;
   sorted.Reserve(contacts);
   if (old_contact_of_new) old_contact_of_new->resize(contacts);
   for (int k = 0; k < contacts; ++k) {
@@ -141,6 +142,7 @@ void RenumberParticles(SceneState<Dim>& s, const std::vector<int>& new_of_old,
       sorted.force.back() = -sorted.force.back();
       if (sorted.tangential_enabled)
         sorted.tangential_force.back() = -sorted.tangential_force.back();
+      if (sorted.moments_enabled) sorted.bond_moment.back() = -sorted.bond_moment.back();
     }
     if (old_contact_of_new) (*old_contact_of_new)[k] = old;
   }
@@ -264,7 +266,8 @@ std::size_t MemoryBytes(const SceneState<Dim>& s) {
            Bytes(p.inverse_inertia) + Bytes(p.strain) + Bytes(s.deformation);
   for (const ContactArrays<Dim>* c : {&s.contacts, &s.contacts_scratch})
     bytes += Bytes(c->pair) + Bytes(c->state) + Bytes(c->reference_gap) + Bytes(c->normal) +
-             Bytes(c->force) + Bytes(c->normal_elastic_force) + Bytes(c->tangential_force);
+             Bytes(c->force) + Bytes(c->normal_elastic_force) + Bytes(c->tangential_force) +
+             Bytes(c->bond_moment);
   bytes += Bytes(s.adjacency.offset) + Bytes(s.adjacency.entry) + Bytes(s.adjacency_cursor);
   bytes += Bytes(s.order.internal_of_external) + Bytes(s.order.external_of_internal);
   bytes += Bytes(s.external_force) + Bytes(s.external_torque) + Bytes(s.external_moment) +

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "solver/bond_moment.h"
 #include "solver/scene_state.h"
 #include "solver/stability_analysis.h"
 #include "common/format.h"
@@ -24,7 +25,8 @@ void CheckIndices(const std::vector<int>& particles, int count, const std::strin
                        std::to_string(k) + ") is outside [0, " + std::to_string(count - 1) + "]");
 }
 
-// sum fn^2/(2 kn) + |ft|^2/(2 kt) over contacts and wall contacts.
+// sum fn^2/(2 kn) + |ft|^2/(2 kt) (+ the bonds' moment energy, bond_moment.h) over contacts
+// and wall contacts.
 template <int Dim>
 double ContactElasticEnergy(const SceneState<Dim>& s) {
   const ContactArrays<Dim>& c = s.contacts;
@@ -34,6 +36,15 @@ double ContactElasticEnergy(const SceneState<Dim>& s) {
     energy += 0.5 * c.normal_elastic_force[k] * c.normal_elastic_force[k] / kn;
   if (c.has_tangential() && kt > 0.0)
     for (int k = 0; k < c.size(); ++k) energy += 0.5 * c.tangential_force[k].squaredNorm() / kt;
+  if (c.has_bond_moments()) {
+    for (int k = 0; k < c.size(); ++k) {
+      if (c.state[k] != ContactState::kBonded) continue;
+      const auto [i, j] = c.pair[k];
+      const BondSection<Dim> section = BondSectionOf<Dim>(
+          s.particles.radius[i], s.particles.radius[j], s.law.bond_radius_ratio, kn, kt);
+      energy += BondMomentEnergy<Dim>(c.bond_moment[k], c.normal[k], section);
+    }
+  }
   for (const WallState<Dim>& w : s.walls) {
     const double k_wall = w.options.normal_stiffness_n_per_m;
     const double kt_wall = w.options.tangential_stiffness_n_per_m;
@@ -118,6 +129,7 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
   plan_.deformable = material.deformable();
   plan_.breakable = material.breakable();
   plan_.tangential = material.tangential_stiffness_n_per_m > 0.0;
+  plan_.bond_moments = material.bonds_carry_moments();
   plan_.dashpots = material.normal_dashpot_ratio > 0.0 ||
                    (plan_.tangential && material.tangential_dashpot_ratio > 0.0);
   plan_.local_damping = material.translational_damping > 0.0 || material.rotational_damping > 0.0;
@@ -130,6 +142,8 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
   // 3. Bonds: the packing's pairs within the gap tolerance (Madan (2.21)).
   s.contacts.tangential_enabled = plan_.tangential;
   s.contacts_scratch.tangential_enabled = plan_.tangential;
+  s.contacts.moments_enabled = plan_.bond_moments;
+  s.contacts_scratch.moments_enabled = plan_.bond_moments;
   std::vector<std::array<int, 2>> pairs = packing.contacts;
   for (auto& pair : pairs) {
     if (pair[0] < 0 || pair[0] >= count || pair[1] < 0 || pair[1] >= count || pair[0] == pair[1])
@@ -310,6 +324,7 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
   s.law.tensile_strength = material.bond_tensile_strength_n;
   s.law.shear_strength = material.bond_shear_strength_n;
   s.law.friction = material.friction_coefficient;
+  s.law.bond_radius_ratio = material.bond_radius_ratio;
   s.law.normal_dashpot_ratio = material.normal_dashpot_ratio;
   s.law.tangential_dashpot_ratio = material.tangential_dashpot_ratio;
   s.law.time_step = dt;
@@ -331,7 +346,7 @@ template <int Dim>
 void Simulation<Dim>::ChooseStages() {
   SceneState<Dim>& s = *state_;
   // Rotation exists when something can apply a moment, or a particle already spins.
-  bool rotation = plan_.tangential || plan_.wall_friction;
+  bool rotation = plan_.tangential || plan_.wall_friction || plan_.bond_moments;
   for (const PointLoadState<Dim>& state : s.loads) {
     const PointLoad<Dim>& load = state.load;
     if constexpr (Dim == 2) {

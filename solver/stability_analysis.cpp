@@ -125,6 +125,8 @@ class BoundaryOperator {
     }
     network_.GatherLinkForces(normal, t, transposed_);
     for (size_t k = 0; k < y.size(); ++k) y[k] = 0.5 * (y[k] + transposed_[k]);
+    // The bonds' rotational springs are symmetric and strain no particle: both halves add them.
+    network_.AddBendingStiffness(x, y);
   }
   long inner_iterations() const { return inner_iterations_; }
 
@@ -200,6 +202,7 @@ class BoundaryOperator {
       for (int c = 0; c < links; ++c) g[c] = w_[c] * root_kn_[c];
     }
     network_.GatherLinkForces(g, t, y);
+    network_.AddBendingStiffness(x, y);
   }
 
   const LinearisedNetwork<Dim>& network_;
@@ -497,6 +500,7 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
   s.rotation = network.has_rotation();
   s.normal_stiffness_n_per_m = material.normal_stiffness_n_per_m;
   s.tangential_stiffness_n_per_m = material.tangential_stiffness_n_per_m;
+  s.bond_radius_ratio = material.bond_radius_ratio;
   s.deformable = material.deformable();
   s.particle_poisson_ratio = material.particle_poisson_ratio;
   if (s.deformable) s.particle_youngs_modulus_pa = *material.particle_youngs_modulus_pa;
@@ -618,7 +622,8 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
     // tangential springs the coupling G can soften the top mode (benchmark: up to 0.4 %), so
     // Newton may go below it there (lower bound 0).
     std::optional<BoundaryResult<Dim>> pencil;
-    if (!network.has_dashpots() && !options.ddem_inner_solves)
+    // The pencil has no term for the bonds' rotational springs: with them, inner solves.
+    if (!network.has_dashpots() && !network.has_bending() && !options.ddem_inner_solves)
       pencil = PencilCriticalStep<Dim>(network, compliance, options, lanczos,
                                        s.local_damping_factor, dem_ritz,
                                        network.has_tangential() ? 0.0 : dem_ritz);

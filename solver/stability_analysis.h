@@ -163,6 +163,9 @@ struct StabilitySummary {
   int degrees_of_freedom = 0, fixed_degrees_of_freedom = 0;
   bool rotation = false;
   double normal_stiffness_n_per_m = 0.0, tangential_stiffness_n_per_m = 0.0;
+  // Bond radius ratio lambda: > 0 when bonds carry moments, whose rotational springs the
+  // network includes (bond_moment.h).
+  double bond_radius_ratio = 0.0;
   bool deformable = false;
   double particle_youngs_modulus_pa = 0.0;  // 0: rigid
   double particle_poisson_ratio = 0.0;

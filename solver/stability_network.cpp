@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "common/error.h"
+#include "solver/bond_moment.h"
 #include "solver/neighbour_search.h"
 #include "solver/particles.h"
 
@@ -138,6 +139,19 @@ void LinearisedNetwork<Dim>::Build(const Packing<Dim>& packing, const SceneOptio
   }
   contact_links_ = link_count();
   tangential_ = kt > 0.0;
+  // Moment-carrying bonds: every pair of the list counted as a bond (on the safe side, as
+  // for the normal springs above).
+  bending_ = material.bonds_carry_moments() && contact_links_ > 0;
+  if (bending_) {
+    link_kb_.resize(contact_links_);
+    link_kw_.resize(contact_links_);
+    for (int c = 0; c < contact_links_; ++c) {
+      const BondSection<Dim> section = BondSectionOf<Dim>(
+          radius_[link_i_[c]], radius_[link_j_[c]], material.bond_radius_ratio, kn, kt);
+      link_kb_[c] = section.bending_stiffness;
+      link_kw_[c] = section.twisting_stiffness;
+    }
+  }
 
   // 3. Walls: particles touching (gap <= tolerance x R) link to ground or to the wall's node.
   const double tolerance = scene.contacts.bond_gap_tolerance;
@@ -200,7 +214,7 @@ void LinearisedNetwork<Dim>::Build(const Packing<Dim>& packing, const SceneOptio
       ++rattler_links_;
     }
   }
-  rotation_ = tangential_;
+  rotation_ = tangential_ || bending_;
 
   // Dashpots, as the solver's contact and wall laws (tangential ones only with kt > 0).
   const int links = link_count();
@@ -421,6 +435,64 @@ void LinearisedNetwork<Dim>::ApplyScaledStiffness(const std::vector<double>& x,
   else
     tangential.clear();
   GatherLinkForces(normal, tangential, y);
+  if (bending_) AddBendingStiffness(x, y);
+}
+
+template <int Dim>
+void LinearisedNetwork<Dim>::AddBendingStiffness(const std::vector<double>& x,
+                                                 std::vector<double>& y) const {
+  if (!bending_) return;
+  const int count = particle_count();
+  // Rotations theta = J^-1/2 x (prescribed axes: 0).
+  std::vector<Angular<Dim>>& spin = scratch_spin_;
+  spin.resize(count);
+  const double* inverse_root = dof_inverse_root_mass_.data();
+#pragma omp parallel for if (count >= kParallelItems) num_threads(num_threads_) schedule(static)
+  for (int p = 0; p < count; ++p) {
+    if constexpr (Dim == 2) {
+      const int d = dof_[p][2];
+      spin[p] = d >= 0 ? x[d] * inverse_root[d] : 0.0;
+    } else {
+      for (int axis = 0; axis < 3; ++axis) {
+        const int d = dof_[p][3 + axis];
+        spin[p][axis] = d >= 0 ? x[d] * inverse_root[d] : 0.0;
+      }
+    }
+  }
+  // The bond's moment on i is M = K_b (theta_j - theta_i); K theta gets -M at i, +M at j.
+  const int* const offset = adjacency_offset_.data();
+  const int* const entry = adjacency_entry_.data();
+  double* const out = y.data();
+#pragma omp parallel for if (count >= kParallelItems) num_threads(num_threads_) schedule(static)
+  for (int p = 0; p < count; ++p) {
+    Angular<Dim> sum = ZeroAngular<Dim>();
+    for (int e = offset[p]; e < offset[p + 1]; ++e) {
+      const int c = entry[e] >> 1;
+      if (c >= contact_links_) continue;
+      const Angular<Dim> relative = spin[link_j_[c]] - spin[link_i_[c]];
+      Angular<Dim> moment;
+      if constexpr (Dim == 2) {
+        moment = link_kb_[c] * relative;
+      } else {
+        const Vector<3>& n = link_normal_[c];
+        const double twist = relative.dot(n);
+        moment = link_kb_[c] * (relative - twist * n) + (link_kw_[c] * twist) * n;
+      }
+      if (entry[e] & 1)
+        sum += moment;
+      else
+        sum -= moment;
+    }
+    if constexpr (Dim == 2) {
+      const int d = dof_[p][2];
+      if (d >= 0) out[d] += sum * inverse_root[d];
+    } else {
+      for (int axis = 0; axis < 3; ++axis) {
+        const int d = dof_[p][3 + axis];
+        if (d >= 0) out[d] += sum[axis] * inverse_root[d];
+      }
+    }
+  }
 }
 
 template <int Dim>
@@ -469,6 +541,35 @@ double LinearisedNetwork<Dim>::GershgorinBound() const {
         link_kt_[c] * (Eigen::Matrix<double, Dim, Dim>::Identity() - n * n.transpose());
     const Eigen::MatrixXd a = l.transpose() * spring * l;
     for (int k = 0; k < size; ++k) row_sum[local[k]] += a.row(k).cwiseAbs().sum();
+    if (bending_ && c < contact_links_) {
+      // The bond's rotational spring on (theta_i, theta_j): [K_b, -K_b; -K_b, K_b], scaled.
+      Eigen::Matrix<double, LinearisedNetwork<Dim>::kRotations,
+                    LinearisedNetwork<Dim>::kRotations>
+          rotational;
+      if constexpr (Dim == 2) {
+        rotational(0, 0) = link_kb_[c];
+      } else {
+        rotational = link_kb_[c] * (Eigen::Matrix3d::Identity() - n * n.transpose()) +
+                     link_kw_[c] * n * n.transpose();
+      }
+      for (const int p : {i, j}) {
+        for (int r = 0; r < kRotations; ++r) {
+          const int d = dof_[p][Dim + r];
+          if (d < 0) continue;
+          double sum = 0.0;
+          for (const int q : {i, j}) {
+            const double sign = q == p ? 1.0 : -1.0;
+            for (int s2 = 0; s2 < kRotations; ++s2) {
+              const int e = dof_[q][Dim + s2];
+              if (e < 0) continue;
+              sum += std::abs(sign * rotational(r, s2) * dof_inverse_root_mass_[d] *
+                              dof_inverse_root_mass_[e]);
+            }
+          }
+          row_sum[d] += sum;
+        }
+      }
+    }
   }
   double bound = 0.0;
   for (const double s : row_sum) bound = std::max(bound, s);

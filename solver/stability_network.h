@@ -27,6 +27,8 @@
 // a wall link) and the arms s_i = R_i n, s_j = -R_j n, the relative displacement of the contact
 // point is d = (u_j + theta_j x s_j) - (u_i + theta_i x s_i); the normal spring acts on n.d,
 // the tangential spring on d - (n.d) n, so K = sum_links kn b_n b_n^T + kt B_t^T B_t.
+// Moment-carrying bonds (bond_moment.h) add, on every pair of the packing's contact list, the
+// rotational spring K_b = kb (I - n n^T) + kw n n^T (2D: kb) on theta_j - theta_i.
 //
 // The DDEM force iteration (Madan (2.41)-(2.54), (3.8)-(3.13); docs/stability.md, "DDEM
 // convergence: rho(B)"): a particle's strain is eps_p = D_p (1/V_p) sym(sum_c s_c (x) F_c)
@@ -71,6 +73,8 @@ class LinearisedNetwork {
   int fixed_dofs() const { return fixed_dofs_; }
   bool has_rotation() const { return rotation_; }
   bool has_tangential() const { return tangential_; }
+  // Whether links carry bending (and in 3D twisting) springs: bonds with a moment.
+  bool has_bending() const { return bending_; }
   // Particles are numbered internally along a space-filling curve (locality of the products);
   // the accessors below take and return the caller's numbering.
   double radius(int particle) const { return radius_[internal_index(particle)]; }
@@ -88,6 +92,10 @@ class LinearisedNetwork {
 
   // --- The mass-scaled stiffness A = M^-1/2 K M^-1/2 (omega^2 = eigenvalues of A) ---
   void ApplyScaledStiffness(const std::vector<double>& x, std::vector<double>& y) const;
+  // y += M^-1/2 K_b M^-1/2 x: the bending (and twisting) springs of moment-carrying bonds
+  // alone. They act on rotations only and do not strain DDEM particles (a couple's moment
+  // tensor is antisymmetric), so every operator of the analysis adds them the same way.
+  void AddBendingStiffness(const std::vector<double>& x, std::vector<double>& y) const;
   // Gershgorin bound: max over degrees of freedom of sum_b |A_ab| (summed link by link), a
   // deterministic upper bound of lambda_max(A) [1/s^2].
   double GershgorinBound() const;
@@ -167,7 +175,7 @@ class LinearisedNetwork {
   std::vector<double> WallMotions(const LinkForce& force) const;
 
   int num_threads_ = 1;
-  bool rotation_ = false, tangential_ = false, dashpots_ = false;
+  bool rotation_ = false, tangential_ = false, dashpots_ = false, bending_ = false;
   int dof_count_ = 0, fixed_dofs_ = 0;
   int contact_links_ = 0, wall_links_ = 0, rattler_links_ = 0, rattlers_alone_ = 0;
   // Particles, in the internal numbering; original_index_[internal] = the caller's index.
@@ -186,6 +194,8 @@ class LinearisedNetwork {
   std::vector<int> link_i_, link_j_;
   std::vector<Vector<Dim>> link_normal_;
   std::vector<double> link_kn_, link_kt_, link_root_kn_, link_root_kt_, link_cn_, link_ct_;
+  // Bending and twisting stiffness of the contact links [N m/rad] (empty without bending).
+  std::vector<double> link_kb_, link_kw_;
   // Particle -> link adjacency: entries 2 link + side (0: the particle is i, 1: it is j).
   std::vector<int> adjacency_offset_, adjacency_entry_;
   // Work arrays of the Apply methods, kept between calls: large vectors allocated afresh at

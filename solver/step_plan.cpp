@@ -12,6 +12,7 @@ std::vector<std::pair<std::string, bool>> Stages(const StepPlan& p) {
           {"contact_forces", true},
           {"ddem_deformed_overlap", p.deformable},
           {"tangential", p.tangential},
+          {"bond_moments", p.bond_moments},
           {"dashpots", p.dashpots},
           {"bond_failure", p.breakable},
           {"walls", p.walls},

@@ -8,7 +8,8 @@
 //   [neighbour_search]  rebuild candidate pairs and wall contacts when anything moved,
 //                       or deformed, more than the search skin allows
 //   contact_forces      normal law on every contact, with [ddem_deformed_overlap],
-//                       [tangential] history and rotation, [dashpots], [bond_failure]
+//                       [tangential] history and rotation, [bond_moments], [dashpots],
+//                       [bond_failure]
 //   [walls]             wall contacts, reactions, wall motion
 //   [point_loads]       loads on particle sets
 //   particle_update     force summation, [ddem_particle_strain] for the next step,
@@ -23,6 +24,7 @@ struct StepPlan {
   bool deformable = false;        // DDEM: strain pass and deformed overlap (Ep given)
   bool breakable = false;         // bond failure check (finite Rn, or finite Rt with kt > 0)
   bool tangential = false;        // tangential spring history (kt > 0)
+  bool bond_moments = false;      // bonds carry a moment (bond_radius_ratio > 0, bond_moment.h)
   bool dashpots = false;          // contact dashpots (xi_n > 0, or xi_t > 0 with kt > 0)
   bool local_damping = false;     // non-viscous damping (alpha_t > 0 or alpha_r > 0)
   bool rotation = false;          // rotational degrees of freedom can receive a moment

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "solver/bond_moment.h"
+
 namespace specimen {
 
 template <int Dim>
@@ -21,11 +23,23 @@ CriticalTimeStepEstimate PerParticleCriticalTimeStep(
     ++contact_count[pair[0]];
     ++contact_count[pair[1]];
   }
+  // A moment-carrying bond adds kb on the rotation of each end: omega^2 = kb / J, i.e.
+  // kb (m R^2 / J) / R^2 on the scale of k_eff / m.
+  std::vector<double> rotational(material.bonds_carry_moments() ? count : 0, 0.0);
+  if (!rotational.empty()) {
+    for (const auto& [i, j] : contacts) {
+      const double k = BondRotationalStiffness<Dim>(particles.radius[i], particles.radius[j],
+                                                    material.bond_radius_ratio, kn, kt);
+      rotational[i] += k * kMassRadiusOverInertia / (particles.radius[i] * particles.radius[i]);
+      rotational[j] += k * kMassRadiusOverInertia / (particles.radius[j] * particles.radius[j]);
+    }
+  }
   CriticalTimeStepEstimate estimate;
   double best = std::numeric_limits<double>::infinity();
   for (int i = 0; i < count; ++i) {
     double stiffness = std::max(1, contact_count[i]) * per_contact;
     if (!wall_stiffness.empty()) stiffness += wall_stiffness[i];
+    if (!rotational.empty()) stiffness += rotational[i];
     const double step = 2.0 * std::sqrt(particles.mass[i] / stiffness);  // Madan (2.18)
     if (step < best) {
       best = step;

@@ -5,7 +5,8 @@
 // Bound used: the per-particle (local subsystem) estimate of Madan (2.16)-(2.18),
 //     dt_cr = f_d min_i 2 sqrt(m_i / k_eff,i),
 //     k_eff,i = sum over the contacts of i of [kn + kt (1 + m_i R_i^2 / J_i)]
-//             + sum over the walls i may touch of [k_wall + kt_wall (1 + m_i R_i^2 / J_i)],
+//             + sum over the walls i may touch of [k_wall + kt_wall (1 + m_i R_i^2 / J_i)]
+//             + sum over the moment-carrying bonds of i of kb m_i / J_i (bond_moment.h),
 // the largest eigenvalue of particle i's own stiffness (translation and rotation; a
 // tangential spring acts on the contact-point velocity u + R theta, whose "mass" is
 // 1/(1/m + R^2/J)) with its neighbours held. m R^2 / J = 2 for discs and 5/2 for spheres.

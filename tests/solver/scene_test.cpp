@@ -39,7 +39,7 @@ TEST(SceneComposition, MinimalSceneRunsOnlyTheContactAndParticlePasses) {
   EXPECT_EQ(summary.stages, (std::vector<std::string>{"contact_forces", "particle_update"}));
   for (const char* name :
        {"ddem_deformed_overlap", "ddem_particle_strain", "bond_failure", "tangential", "walls",
-        "dashpots", "local_damping", "rotation", "neighbour_search"})
+        "dashpots", "local_damping", "rotation", "neighbour_search", "bond_moments"})
     EXPECT_TRUE(Has(summary.omitted_stages, name)) << name;
   const std::string report = summary.FullReport();
   EXPECT_NE(report.find("stages run: contact_forces, particle_update"), std::string::npos)
@@ -50,6 +50,7 @@ TEST(SceneComposition, MinimalSceneRunsOnlyTheContactAndParticlePasses) {
   // Nothing of the left-out stages is even allocated.
   EXPECT_TRUE(simulation.particles().strain.empty());
   EXPECT_TRUE(simulation.contacts().tangential_force.empty());
+  EXPECT_TRUE(simulation.contacts().bond_moment.empty());
   EXPECT_TRUE(simulation.state().external_force.empty());
 }
 
@@ -63,6 +64,7 @@ TEST(SceneComposition, FullSceneRunsEveryStage) {
   m.particle_poisson_ratio = 0.3;
   m.translational_damping = 0.1;
   m.normal_dashpot_ratio = 0.1;
+  m.bond_radius_ratio = 0.5;
   WallOptions<2> wall;
   wall.name = "floor";
   wall.point = Vector<2>(0, -1e-3);
@@ -84,10 +86,10 @@ TEST(SceneComposition, FullSceneRunsEveryStage) {
   run.max_steps = 10;
   const RunSummary summary = simulation.Run(run);
   EXPECT_TRUE(summary.omitted_stages.empty()) << summary.FullReport();
-  EXPECT_EQ(summary.stages.size(), 14u);
+  EXPECT_EQ(summary.stages.size(), 15u);
   // JSON carries the same content.
   const nlohmann::json j = summary.ToJson();
-  EXPECT_EQ(j["stages"].size(), 14u);
+  EXPECT_EQ(j["stages"].size(), 15u);
   EXPECT_EQ(j["steps"], 10);
   EXPECT_TRUE(j["energy"].contains("relative_imbalance"));
   EXPECT_EQ(j["walls"][0]["name"], "floor");
