@@ -607,12 +607,15 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
   CalibrationReach& used_reach = summary.model_used == "ddem" ? summary.deformable_reach : summary.rigid_reach;
   summary.reach_before_rounds = used_reach;
   used_reach = solution.reach;
-  summary.best_round = solution.best_round + 1;
-  const auto& tests = model.strength_tests();
+  const bool has_result = solution.best_round >= 0;
+  summary.best_round = has_result ? solution.rounds[solution.best_round].round : 0;
+  const auto& tests = model.strength_tests();  // one per round, failed ones included
   for (size_t k = 0; k < solution.rounds.size(); ++k) {
     const StrengthRound& r = solution.rounds[k];
     VerificationRound v;
     v.round = r.round;
+    v.failed = r.failed;
+    v.failure = r.failure;
     v.material = tests[k].material;
     v.ratios = r.ratios;
     v.youngs_modulus_pa = r.elastic_youngs_modulus_pa;
@@ -632,13 +635,16 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     v.correction = r.step;
     summary.rounds.push_back(v);
   }
-  const auto& best = tests[solution.best_round];
-  summary.material = best.material;
-  summary.final_ucs = best.ucs;
-  summary.final_bts = best.bts;
+  // With no round measured, the parameters are the elastic set's (Rn and Rt unknown: 0).
+  const typename LabForwardModel<Dim>::RoundTests* best = has_result ? &tests[solution.best_round] : nullptr;
+  summary.material = has_result ? best->material : model.MaterialFor(solution.normal_stiffness, 0.0, solution.ratios);
+  if (has_result) {
+    summary.final_ucs = best->ucs;
+    summary.final_bts = best->bts;
+  }
   summary.notes.push_back(solution.reach.Describe(target));
   for (const std::string& note : solution.notes) summary.notes.push_back(note);
-  if (!summary.converged && !summary.gave_up)
+  if (has_result && !summary.converged && !summary.gave_up)
     summary.notes.push_back("the budget (" + std::to_string(options.max_verification_rounds) +
                             " strength rounds) was spent before every honoured target was within tolerance");
 
@@ -654,6 +660,7 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
       summary.maps.verified.push_back(v);
     }
     for (const StrengthRound& r : solution.rounds) {  // strengths only: the elastic runs are above
+      if (r.failed) continue;  // nothing measured
       VerifiedPoint v;
       v.ratios = r.ratios;
       v.specimen = summary.ucs_descriptors;
@@ -679,16 +686,20 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
   }
 
   // --- 5. Stability of the final set ----------------------------------------------------
-  {
+  if (!has_result) {
+    summary.stability_verdict = "not judged";
+    summary.stability_binding_limit = "-";
+    summary.stability_message = "no strength round measured: no final set";
+  } else {
     SceneOptions<Dim> scene;
     scene.material = summary.material;
-    scene.material.density_kg_per_m3 = best.ucs.density_used_kg_per_m3;
+    scene.material.density_kg_per_m3 = best->ucs.density_used_kg_per_m3;
     scene.material.translational_damping = scene.material.rotational_damping = options.test.local_damping;
     scene.material.normal_dashpot_ratio = scene.material.tangential_dashpot_ratio = options.test.dashpot_ratio;
     scene.material.mass_scaling_budget = options.test.mass_scaling_budget;  // as the tests ran
     StabilityOptions stability;
     stability.max_spectral_radius = options.max_spectral_radius;
-    stability.proposed_time_step_s = best.ucs.time_step_s;
+    stability.proposed_time_step_s = best->ucs.time_step_s;
     stability.locate_mode = false;
     const StabilitySummary s = AnalyseStability<Dim>(specimens.ucs, scene, stability);
     summary.stability_verdict = s.verdict;

@@ -141,6 +141,10 @@ struct VerificationRound {
   bool accepted = false;  // the best so far when it ran
   double seconds = 0.0;
   std::string correction;  // how the next round was chosen
+  // A test of the round failed (diverged, no peak, or the solver refused the point): the
+  // strengths and their errors are not measured; `failure` names the test and the reason.
+  bool failed = false;
+  std::string failure;
 };
 
 struct CalibrationSummary {
@@ -162,8 +166,8 @@ struct CalibrationSummary {
   CalibrationReach reach_before_rounds;
   // The calibration loop: elastic runs, strength rounds, transfer errors, notes.
   CalibrationSolution solution;
-  std::vector<VerificationRound> rounds;  // the strength rounds
-  int best_round = 0;                     // 1-based
+  std::vector<VerificationRound> rounds;  // the strength rounds, failed ones included
+  int best_round = 0;                     // 1-based; 0 when every round failed (no result)
   MaterialParameters material;  // the final set (density before scaling)
   bool converged = false;       // every honoured target within tolerance
   bool tensile_honoured = true; // false when sigma_c / sigma_t is out of reach
@@ -184,7 +188,9 @@ struct CalibrationSummary {
 
 // Runs the calibration. InputError for invalid options or target, or maps that do not
 // match the packing; FileError when the maps cannot be read or written; ComputationError
-// when the sweep fails everywhere or a verification test diverges.
+// when the sweep fails everywhere or an elastic run before the strength rounds fails. A
+// strength round whose test fails (diverges) is a failed round of the summary: the loop goes
+// on, and with no round measured there is no result (best_round 0, not converged).
 template <int Dim>
 CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimens,
                                        const TargetMaterial& target, const CalibrationOptions& options);

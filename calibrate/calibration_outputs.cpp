@@ -1,5 +1,6 @@
 #include "calibrate/calibration_outputs.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <ostream>
 #include <sstream>
@@ -27,11 +28,12 @@ std::string FileName(const std::string& path) {
   return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
-// A run-test scene (lab/lab_scene_file.h) of one verification test.
+// A run-test scene (lab/lab_scene_file.h) of one verification test; `what` says which.
 void WriteScene(std::ostream& out, const std::string& packing_file, const MaterialParameters& material,
-                const LabTestOptions& test, const char* kind, const std::string& name, int dimension) {
-  out << "# Written by calibrate-to-material " << kVersion << ": the verification " << kind
-      << " test with the calibrated parameters.\n# Rerun: run-test " << name << "_scene.toml --output DIR\n\n";
+                const LabTestOptions& test, const char* kind, const std::string& name, int dimension,
+                const std::string& what = "with the calibrated parameters") {
+  out << "# Written by calibrate-to-material " << kVersion << ": the verification " << kind << " test " << what
+      << ".\n# Rerun: run-test " << name << "_scene.toml --output DIR\n\n";
   out << "[specimen]\npacking = \"" << packing_file << "\"\nscale_density = " << (test.scale_density ? "true" : "false")
       << "\n\n";
   out << MaterialTomlTable(material, dimension) << "\n";
@@ -131,20 +133,35 @@ std::string MapsScript(const StoredMaps& stored, const MicroRatios& chosen,
   return s.str();
 }
 
+// A text field of a CSV row, quoted (messages hold commas: "step 184,886").
+std::string CsvText(const std::string& text) {
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+// Every round; a failed one leaves its measured fields empty (gnuplot skips them) and says
+// why in the last column.
 void WriteVerificationCsv(const CalibrationSummary& summary, std::ostream& out) {
   out << "round,best,accepted,kn,kt,rn,rt,friction,particle_youngs_modulus_pa,particle_poisson_ratio,youngs_modulus_pa,"
          "poisson_ratio,ucs_pa,tensile_strength_pa,predicted_ucs_pa,predicted_tensile_strength_pa,error_youngs,"
-         "error_poisson,error_ucs,error_tensile,seconds\n";
+         "error_poisson,error_ucs,error_tensile,seconds,failed,failure\n";
   for (const VerificationRound& v : summary.rounds) {
     const MaterialParameters& m = v.material;
+    auto measured = [&](double value) {
+      std::ostringstream field;
+      if (!v.failed) field << value;
+      return field.str();
+    };
     out << v.round << "," << (v.round == summary.best_round ? 1 : 0) << "," << (v.accepted ? 1 : 0) << ","
         << Exact(m.normal_stiffness_n_per_m) << "," << Exact(m.tangential_stiffness_n_per_m) << ","
         << Exact(m.bond_tensile_strength_n) << "," << Exact(m.bond_shear_strength_n) << ","
         << Exact(m.friction_coefficient) << "," << (m.particle_youngs_modulus_pa ? *m.particle_youngs_modulus_pa : 0.0)
-        << "," << m.particle_poisson_ratio << "," << v.youngs_modulus_pa << "," << v.poisson_ratio << "," << v.ucs_pa
-        << "," << v.tensile_strength_pa << "," << v.predicted_ucs_pa << "," << v.predicted_tensile_strength_pa << ","
-        << v.error_youngs << "," << v.error_poisson << "," << v.error_ucs << "," << v.error_tensile << ","
-        << v.seconds << "\n";
+        << "," << m.particle_poisson_ratio << "," << v.youngs_modulus_pa << "," << v.poisson_ratio << ","
+        << measured(v.ucs_pa) << "," << measured(v.tensile_strength_pa) << "," << v.predicted_ucs_pa << ","
+        << v.predicted_tensile_strength_pa << "," << v.error_youngs << "," << v.error_poisson << ","
+        << measured(v.error_ucs) << "," << measured(v.error_tensile) << "," << v.seconds << ","
+        << (v.failed ? 1 : 0) << "," << CsvText(v.failure) << "\n";
   }
 }
 
@@ -246,22 +263,43 @@ CalibrationOutputsWritten WriteCalibrationOutputs(const CalibrationSummary& summ
   const std::string text_report = summary.FullReport();
   const nlohmann::json json_report = summary.ToJson();
 
+  // With no round measured there is no calibrated set: no parameters, scenes or final tests
+  // (the report and the rounds say what failed).
+  const bool has_result = summary.best_round >= 1;
   OutputGroup group;
-  group.Add(base + "_parameters.toml", [&](std::ostream& out) {
-    out << "# Calibrated by calibrate-to-material " << kVersion << " for '" << summary.target.name
-        << "'.\n# The [material] table of a run-test scene; " << output.name
-        << "_ucs_scene.toml holds a complete one.\n\n"
-        << MaterialTomlTable(summary.material, Dim);
-  });
   group.Add(base + "_ucs.packing", [&](std::ostream& out) { WritePacking<Dim>(specimens.ucs, out); });
   group.Add(base + "_bts.packing", [&](std::ostream& out) { WritePacking<Dim>(specimens.bts, out); });
-  group.Add(base + "_ucs_scene.toml", [&](std::ostream& out) {
-    WriteScene(out, FileName(base + "_ucs.packing"), summary.material, options.test, "ucs", output.name + "_ucs", Dim);
-  });
-  group.Add(base + "_bts_scene.toml", [&](std::ostream& out) {
-    WriteScene(out, FileName(base + "_bts.packing"), summary.material, options.test, "brazilian",
-               output.name + "_bts", Dim);
-  });
+  if (has_result) {
+    group.Add(base + "_parameters.toml", [&](std::ostream& out) {
+      out << "# Calibrated by calibrate-to-material " << kVersion << " for '" << summary.target.name
+          << "'.\n# The [material] table of a run-test scene; " << output.name
+          << "_ucs_scene.toml holds a complete one.\n\n"
+          << MaterialTomlTable(summary.material, Dim);
+    });
+    group.Add(base + "_ucs_scene.toml", [&](std::ostream& out) {
+      WriteScene(out, FileName(base + "_ucs.packing"), summary.material, options.test, "ucs", output.name + "_ucs",
+                 Dim);
+    });
+    group.Add(base + "_bts_scene.toml", [&](std::ostream& out) {
+      WriteScene(out, FileName(base + "_bts.packing"), summary.material, options.test, "brazilian",
+                 output.name + "_bts", Dim);
+    });
+  }
+  // The scenes of every failed round: run-test repeats the failure.
+  for (const VerificationRound& v : summary.rounds) {
+    if (!v.failed) continue;
+    const std::string round = "_round" + std::to_string(v.round);
+    std::string what = "of strength round " + std::to_string(v.round) + ", which failed (" + v.failure + ")";
+    std::replace(what.begin(), what.end(), '\n', ' ');  // one comment line
+    group.Add(base + round + "_ucs_scene.toml", [&, round, what](std::ostream& out) {
+      WriteScene(out, FileName(base + "_ucs.packing"), v.material, options.test, "ucs", output.name + round + "_ucs",
+                 Dim, what);
+    });
+    group.Add(base + round + "_bts_scene.toml", [&, round, what](std::ostream& out) {
+      WriteScene(out, FileName(base + "_bts.packing"), v.material, options.test, "brazilian",
+                 output.name + round + "_bts", Dim, what);
+    });
+  }
   group.Add(base + "_report.json", [&](std::ostream& out) { out << json_report.dump(2) << "\n"; });
   group.Add(base + "_report.txt", [&](std::ostream& out) { out << text_report; });
   group.Add(base + "_sweep.csv", [&](std::ostream& out) { WriteSweepCsv(summary.maps, out); });
@@ -273,7 +311,7 @@ CalibrationOutputsWritten WriteCalibrationOutputs(const CalibrationSummary& summ
   for (const std::string& f : group.Commit()) written.files.push_back(f);
 
   // The final verification tests, as run-test writes them.
-  for (int k = 0; k < 2; ++k) {
+  for (int k = 0; k < (has_result ? 2 : 0); ++k) {
     LabOutputOptions lab;
     lab.directory = output.directory;
     lab.name = output.name + (k == 0 ? "_verify_ucs" : "_verify_bts");

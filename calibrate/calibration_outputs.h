@@ -10,8 +10,13 @@
 //   <dir>/<name>_maps.png            nu and Psi_E against kt/kn, sigma_c/sigma_t and Psi_c
 //                                    against the last axis, sweep points and chosen point
 //   <dir>/<name>_verification.csv    every verification round: parameters, achieved, errors
+//                                    (a failed round: its failure instead of strengths)
 //   <dir>/<name>_verify_ucs_*, _verify_bts_*  the final verification tests (lab_outputs.h:
 //                                    stress-strain CSV and picture, cracks, VTU)
+//   <dir>/<name>_round<N>_ucs_scene.toml, _bts_scene.toml   the tests of failed round N, to
+//                                    repeat the failure with run-test
+// With no round measured (every one failed) there is no calibrated set: no parameters, scenes
+// of the best round or final tests; the rest is written.
 // Data files appear together (OutputGroup); pictures come last and a missing gnuplot only
 // costs them (a warning).
 

@@ -36,6 +36,14 @@ nlohmann::json RatiosJson(const MicroRatios& r) {
 std::string CalibrationSummary::BriefReport() const {
   char line[480];
   if (rounds.empty()) return "calibration: no strength round run\n";
+  if (best_round < 1) {
+    std::snprintf(line, sizeof(line),
+                  "%dD %s calibration to '%s': no result, every strength round failed (%zu rounds, %zu elastic "
+                  "runs); NOT converged; %.1f s",
+                  dimension, model_used.c_str(), target.name.c_str(), rounds.size(), solution.elastic_runs.size(),
+                  seconds);
+    return line;
+  }
   const VerificationRound& v = rounds[best_round - 1];
   std::snprintf(line, sizeof(line),
                 "%dD %s calibration to '%s': E %s, nu %s, UCS %s, sigma_t %s%s (round %d of %zu, %zu elastic runs); "
@@ -111,6 +119,21 @@ std::string CalibrationSummary::FullReport() const {
   }
   out << "strength rounds (UCS and Brazilian; E, nu of the round's elastic set)\n";
   for (const VerificationRound& v : rounds) {
+    if (v.failed) {
+      // The whole set, so that the failed run can be repeated with run-test.
+      const MaterialParameters& m = v.material;
+      std::snprintf(line, sizeof(line),
+                    "  round %d FAILED: Rt/Rn %.4g, Rn %.5g N (kn %.6g N/m, kt %.6g N/m, Rt %.6g N%s); %.0f s\n",
+                    v.round, v.ratios.shear_to_tensile_strength, m.bond_tensile_strength_n, m.normal_stiffness_n_per_m,
+                    m.tangential_stiffness_n_per_m, m.bond_shear_strength_n,
+                    m.particle_youngs_modulus_pa ? (", Ep " + Num("%.6g", *m.particle_youngs_modulus_pa) + " Pa, nu_p " +
+                                                    Num("%.4g", m.particle_poisson_ratio)).c_str()
+                                                 : "",
+                    v.seconds);
+      out << line << "           " << v.failure << "\n";
+      if (!v.correction.empty()) out << "           next: " << v.correction << "\n";
+      continue;
+    }
     std::snprintf(line, sizeof(line),
                   "  round %d%s: Rt/Rn %.4g, Rn %.5g N: UCS %.4g MPa (%s), sigma_t %.4g MPa (%s), ratio %.3f; "
                   "E %s, nu %s; %.0f s\n",
@@ -126,7 +149,9 @@ std::string CalibrationSummary::FullReport() const {
     out << line;
     if (!v.correction.empty()) out << "           next: " << v.correction << "\n";
   }
-  if (!rounds.empty()) {
+  if (!rounds.empty() && best_round < 1)
+    out << "  no result: every strength round failed, so no set was measured against the target\n";
+  if (best_round >= 1) {
     const VerificationRound& v = rounds[best_round - 1];
     std::snprintf(line, sizeof(line), "  %-10s %14s %14s %10s\n", "", "target", "achieved", "error");
     out << line;
@@ -155,13 +180,17 @@ std::string CalibrationSummary::FullReport() const {
   row("converged", converged ? (gave_up ? "yes, on every property kept" : "yes") : "no");
   out << "parameters\n";
   row("kn, kt [N/m]", Num("%.6g", material.normal_stiffness_n_per_m) + ", " + Num("%.6g", material.tangential_stiffness_n_per_m));
-  row("Rn, Rt [N]", Num("%.6g", material.bond_tensile_strength_n) + ", " + Num("%.6g", material.bond_shear_strength_n));
+  row("Rn, Rt [N]", best_round >= 1 ? Num("%.6g", material.bond_tensile_strength_n) + ", " +
+                                          Num("%.6g", material.bond_shear_strength_n)
+                                    : "none (no strength round measured)");
   row("mu", Num("%.4g", material.friction_coefficient));
   row("Ep [Pa], nu_p", material.particle_youngs_modulus_pa ? Num("%.6g", *material.particle_youngs_modulus_pa) + ", " +
                                                                  Num("%.4g", material.particle_poisson_ratio)
                                                            : "rigid particles");
-  row("density [kg/m^3]", Num("%.6g", material.density_kg_per_m3) + " (scaled in the tests: " +
-                              Num("%.6g", final_ucs.density_used_kg_per_m3) + ")");
+  row("density [kg/m^3]", Num("%.6g", material.density_kg_per_m3) +
+                              (best_round >= 1 ? " (scaled in the tests: " +
+                                                     Num("%.6g", final_ucs.density_used_kg_per_m3) + ")"
+                                               : ""));
   out << "stability (UCS specimen, final set)\n";
   row("verdict", stability_verdict + " (binding: " + stability_binding_limit + ", margin " +
                      Num("%.1f %%", stability_margin_percent) + ")");
@@ -207,8 +236,14 @@ nlohmann::json CalibrationSummary::ToJson() const {
                                  {"poisson_ratio", r.measured.poisson_ratio},
                                  {"seconds", r.measured.seconds}});
   j["verification"] = nlohmann::json::array();
-  for (const VerificationRound& v : rounds)
+  // A failed round measured no strength: those fields are null, `failure` says why.
+  auto measured = [](const VerificationRound& v, double value) {
+    return v.failed ? nlohmann::json() : nlohmann::json(value);
+  };
+  for (const VerificationRound& v : rounds) {
     j["verification"].push_back({{"round", v.round},
+                                 {"failed", v.failed},
+                                 {"failure", v.failure},
                                  {"best", v.round == best_round},
                                  {"accepted", v.accepted},
                                  {"ratios", RatiosJson(v.ratios)},
@@ -218,25 +253,31 @@ nlohmann::json CalibrationSummary::ToJson() const {
                                  {"rt", v.material.bond_shear_strength_n},
                                  {"youngs_modulus_pa", v.youngs_modulus_pa},
                                  {"poisson_ratio", v.poisson_ratio},
-                                 {"own_peak_secants", {{"youngs_modulus_pa", v.own_peak_youngs_modulus_pa},
-                                                       {"poisson_ratio", v.own_peak_poisson_ratio}}},
-                                 {"ucs_pa", v.ucs_pa},
-                                 {"tensile_strength_pa", v.tensile_strength_pa},
+                                 {"own_peak_secants", {{"youngs_modulus_pa", measured(v, v.own_peak_youngs_modulus_pa)},
+                                                       {"poisson_ratio", measured(v, v.own_peak_poisson_ratio)}}},
+                                 {"ucs_pa", measured(v, v.ucs_pa)},
+                                 {"tensile_strength_pa", measured(v, v.tensile_strength_pa)},
                                  {"predicted", {{"ucs_pa", v.predicted_ucs_pa},
                                                 {"tensile_strength_pa", v.predicted_tensile_strength_pa}}},
                                  {"relative_errors",
                                   {{"youngs_modulus", v.error_youngs},
                                    {"poisson_ratio", v.error_poisson},
-                                   {"ucs", v.error_ucs},
-                                   {"tensile_strength", v.error_tensile}}},
+                                   {"ucs", measured(v, v.error_ucs)},
+                                   {"tensile_strength", measured(v, v.error_tensile)}}},
                                  {"seconds", v.seconds},
                                  {"next", v.correction}});
+    if (v.material.particle_youngs_modulus_pa) {
+      j["verification"].back()["particle_youngs_modulus_pa"] = *v.material.particle_youngs_modulus_pa;
+      j["verification"].back()["particle_poisson_ratio"] = v.material.particle_poisson_ratio;
+    }
+  }
   j["transfer_error"] = {{"youngs_modulus", solution.transfer_youngs},
                          {"poisson_ratio", solution.transfer_poisson},
                          {"ucs", solution.transfer_ucs},
                          {"tensile_strength", solution.transfer_tensile},
                          {"first_prediction_corrected",
                           {{"ucs", solution.corrected_error_ucs}, {"tensile_strength", solution.corrected_error_tensile}}}};
+  j["best_round"] = best_round;  // 0: every round failed, no result
   j["converged"] = converged;
   j["tensile_honoured"] = tensile_honoured;
   j["given_up"] = solution.reach.given_up;

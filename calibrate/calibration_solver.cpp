@@ -142,6 +142,25 @@ double Root(const F& g, double lower, double upper, double near, bool* found) {
   return *found ? root : best;
 }
 
+// The middle of the widest interval of [lower, upper] the points leave, in logarithms when
+// lower > 0 (Rt/Rn acts as a factor: its levels are spaced in equal ratios).
+double WidestGapMiddle(std::vector<double> points, double lower, double upper) {
+  if (!(upper > lower)) return lower;
+  const bool geometric = lower > 0.0;
+  auto coordinate = [&](double v) { return geometric ? std::log(v) : v; };
+  for (double& p : points) p = std::clamp(p, lower, upper);
+  points.push_back(lower);
+  points.push_back(upper);
+  std::sort(points.begin(), points.end());
+  size_t widest = 1;
+  for (size_t i = 1; i < points.size(); ++i)
+    if (coordinate(points[i]) - coordinate(points[i - 1]) >
+        coordinate(points[widest]) - coordinate(points[widest - 1]))
+      widest = i;
+  const double a = points[widest - 1], b = points[widest];
+  return geometric ? std::sqrt(a * b) : 0.5 * (a + b);
+}
+
 std::string Number(const char* format, double value) {
   char text[64];
   std::snprintf(text, sizeof(text), format, value);
@@ -699,7 +718,20 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
   double trust = width;      // Rt/Rn: the whole box for the first step of a line
   double given_up_x = tensile_honoured ? -1.0 : x;  // Rt/Rn kept once the ratio is given up
   double probe_x = -1.0;  // Rt/Rn of a round that measures the trend the maps predict
+  double rn_shift = 0.0;  // ln Rn of the next round from the predicted one: held off a failed round
   int best = -1;
+  // Rounds whose test failed (diverged, no peak, or the solver refused the chosen point). They
+  // measure nothing, so the corrected line stays as it was and would send the next round
+  // to the same point: each is a hole the later rounds keep out of (same_point), as a trust
+  // region treats a rejected step. Merged into `rounds` when the stage ends.
+  std::vector<StrengthRound> failed_rounds;
+  // A round within 1 % of the box in Rt/Rn and 1 % in Rn measures the same point: its
+  // strengths differ by about the path noise (UCS 0.3-1.2 %, sigma_t about 1 %).
+  const double same_x = 0.01 * width, same_log_rn = std::log(1.01);
+  auto same_point = [&](const StrengthRound& r, double at_x, double at_log_rn) {
+    return std::abs(Get(r.ratios, kX) - at_x) <= same_x &&
+           std::abs(std::log(r.bond_tensile_strength) - at_log_rn) <= same_log_rn;
+  };
   for (int round = 1; round <= options_.max_strength_rounds; ++round) {
     StrengthRound k;
     k.round = round;
@@ -711,192 +743,244 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
     k.elastic_met = elastic_met(set);
     double log_rn, log_c, log_t;
     predict(x, &log_rn, &log_c, &log_t);
+    log_rn += rn_shift, log_c += rn_shift, log_t += rn_shift;  // (strengths proportional to Rn)
+    rn_shift = 0.0;
     k.bond_tensile_strength = std::exp(log_rn);
     k.predicted_ucs_pa = std::exp(log_c);
     k.predicted_tensile_strength_pa = std::exp(log_t);
     Progress(0.15 + 0.85 * (round - 1) / options_.max_strength_rounds,
              "strength round " + std::to_string(round) + "/" + std::to_string(options_.max_strength_rounds) +
                  ": Rt/Rn " + Number("%.4g", x) + ", Rn " + Number("%.5g", k.bond_tensile_strength) + " N");
-    k.measured = model_->MeasureStrength(k.normal_stiffness, k.bond_tensile_strength, k.ratios);
-    if (!(k.measured.ucs_pa > 0.0) || !(k.measured.tensile_strength_pa > 0.0))
-      throw ComputationError("strength round " + std::to_string(round) + " measured a non-positive strength");
-    k.error_ucs = k.measured.ucs_pa / target_.ucs_pa - 1.0;
-    k.error_tensile = k.measured.tensile_strength_pa / target_.tensile_strength_pa - 1.0;
-    if (round == 1) {
-      solution->transfer_ucs = k.measured.ucs_pa / (k.bond_tensile_strength * surrogate_.MapUcsPerStrength(k.ratios)) - 1.0;
-      solution->transfer_tensile =
-          k.measured.tensile_strength_pa / (k.bond_tensile_strength * surrogate_.MapTensilePerStrength(k.ratios)) - 1.0;
-      solution->corrected_error_ucs = k.measured.ucs_pa / k.predicted_ucs_pa - 1.0;
-      solution->corrected_error_tensile = k.measured.tensile_strength_pa / k.predicted_tensile_strength_pa - 1.0;
+    try {
+      k.measured = model_->MeasureStrength(k.normal_stiffness, k.bond_tensile_strength, k.ratios);
+      if (!(k.measured.ucs_pa > 0.0) || !(k.measured.tensile_strength_pa > 0.0))
+        throw ComputationError("measured a non-positive strength (UCS " + Number(k.measured.ucs_pa) +
+                               " Pa, sigma_t " + Number(k.measured.tensile_strength_pa) + " Pa)");
+    } catch (const ComputationError& e) {
+      k.failed = true;
+      k.failure = e.what();
+      k.measured = StrengthMeasurement();
     }
-    rounds.push_back(k);
-    SurrogateMeasurement anchor;  // the true map here, for the other lines and later runs
-    anchor.ratios = k.ratios;
-    anchor.ucs_per_strength = k.measured.ucs_pa / k.bond_tensile_strength;
-    anchor.tensile_per_strength = k.measured.tensile_strength_pa / k.bond_tensile_strength;
-    surrogate_.AddMeasurement(anchor, /*stored=*/false);
-    const double measured_ratio = std::log(k.measured.ucs_pa / k.measured.tensile_strength_pa);
-
-    // Reach, by measurement: a round within the slack proves the ratio reachable (and honours
-    // sigma_t again if it had been given up); it is out of reach at this elastic set when the
-    // corrected line misses it and a round at the end of the box that comes closest missed it.
-    // A round that meets every tolerance needs none of this (its ratio may still miss by up
-    // to the two strength tolerances together), and the last round cannot act on it.
     bool replan = false;
+    int best_on_line = -1;  // of the measured rounds at the current elastic set
     const bool last = round == options_.max_strength_rounds;
-    if (std::abs(measured_ratio - log_ratio) <= slack) {
-      ratio_measured_in_reach = true;
-      if (!tensile_honoured) {
-        tensile_honoured = true;
-        given_up_x = -1.0;
-        solution->notes.push_back("round " + std::to_string(round) + " measured sigma_c / sigma_t " +
-                                  Number("%.3f", std::exp(measured_ratio)) + ": within reach after all; " +
-                                  (compressive ? "sigma_t" : "the UCS") + " honoured again");
+    if (k.failed) {
+      // Rejected, never the best; the region of Rt/Rn shrinks to half the step, as after a
+      // rejected round (a step that moved only Rn leaves it, as there).
+      k.weighted_error = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < static_cast<int>(rounds.size()); ++i)
+        if (rounds[i].elastic_set == line_id && (best_on_line < 0 || better(rounds[i], rounds[best_on_line])))
+          best_on_line = i;
+      if (best_on_line >= 0) {
+        const double moved = std::abs(x - Get(rounds[best_on_line].ratios, kX));
+        if (moved > same_x) trust = std::max(0.5 * moved, 0.02 * width);
       }
-    } else if (tensile_honoured && !x_free && !ratio_measured_in_reach && !met(k)) {
-      // Rt/Rn is not an input of the maps: one measurement shows the ratio this elastic set gives.
-      tensile_honoured = false;
-      solution->notes.push_back("sigma_c / sigma_t = " + Number("%.3f", target_.StrengthRatio()) + ": round " +
-                                std::to_string(round) + " measured " + Number("%.3f", std::exp(measured_ratio)) +
-                                ", and Rt/Rn is not an input of these maps; " + (compressive ? "sigma_t" : "the UCS") +
-                                " is given up");
-    } else if (tensile_honoured && x_free && !ratio_measured_in_reach && !met(k) && !last) {
-      double lo = std::numeric_limits<double>::infinity(), hi = -lo, x_of_lo = x_lo, x_of_hi = x_hi;
-      for (int j = 0; j <= 100; ++j) {
-        const double v = x_lo + width * j / 100.0, value = ratio_at(v);
-        if (value < lo) lo = value, x_of_lo = v;
-        if (value > hi) hi = value, x_of_hi = v;
+      failed_rounds.push_back(k);
+    } else {
+      k.error_ucs = k.measured.ucs_pa / target_.ucs_pa - 1.0;
+      k.error_tensile = k.measured.tensile_strength_pa / target_.tensile_strength_pa - 1.0;
+      if (rounds.empty()) {  // the first measured round
+        solution->transfer_ucs =
+            k.measured.ucs_pa / (k.bond_tensile_strength * surrogate_.MapUcsPerStrength(k.ratios)) - 1.0;
+        solution->transfer_tensile = k.measured.tensile_strength_pa /
+                                         (k.bond_tensile_strength * surrogate_.MapTensilePerStrength(k.ratios)) -
+                                     1.0;
+        solution->corrected_error_ucs = k.measured.ucs_pa / k.predicted_ucs_pa - 1.0;
+        solution->corrected_error_tensile = k.measured.tensile_strength_pa / k.predicted_tensile_strength_pa - 1.0;
       }
-      const bool above = log_ratio > hi + slack, below = log_ratio < lo - slack;
-      if (above || below) {
-        const double end = above ? x_of_hi : x_of_lo;
-        bool measured_at_end = false;
-        for (const StrengthRound& r : rounds) {
-          const double rr = std::log(r.measured.ucs_pa / r.measured.tensile_strength_pa);
-          if (r.elastic_set == line_id && std::abs(Get(r.ratios, kX) - end) <= 0.02 * width &&
-              (above ? rr < log_ratio - slack : rr > log_ratio + slack))
-            measured_at_end = true;
+      rounds.push_back(k);
+      SurrogateMeasurement anchor;  // the true map here, for the other lines and later runs
+      anchor.ratios = k.ratios;
+      anchor.ucs_per_strength = k.measured.ucs_pa / k.bond_tensile_strength;
+      anchor.tensile_per_strength = k.measured.tensile_strength_pa / k.bond_tensile_strength;
+      surrogate_.AddMeasurement(anchor, /*stored=*/false);
+      const double measured_ratio = std::log(k.measured.ucs_pa / k.measured.tensile_strength_pa);
+
+      // Reach, by measurement: a round within the slack proves the ratio reachable (and honours
+      // sigma_t again if it had been given up); it is out of reach at this elastic set when the
+      // corrected line misses it and a round at the end of the box that comes closest missed it.
+      // A round that meets every tolerance needs none of this (its ratio may still miss by up
+      // to the two strength tolerances together), and the last round cannot act on it.
+      if (std::abs(measured_ratio - log_ratio) <= slack) {
+        ratio_measured_in_reach = true;
+        if (!tensile_honoured) {
+          tensile_honoured = true;
+          given_up_x = -1.0;
+          solution->notes.push_back("round " + std::to_string(round) + " measured sigma_c / sigma_t " +
+                                    Number("%.3f", std::exp(measured_ratio)) + ": within reach after all; " +
+                                    (compressive ? "sigma_t" : "the UCS") + " honoured again");
         }
-        // The maps' trend towards that end must be measured too: two rounds 10 % of the box
-        // apart, the one nearer the end nearer the target, or two stored measurements at
-        // one elastic set whose ratio moves the same way along Rt/Rn. Where it is not, a
-        // probe a quarter of the box inwards measures it, since a map can have it wrong.
-        struct Sample {
-          MicroRatios ratios;
-          double log_ratio;
-        };
-        std::vector<Sample> line_samples, stored_samples;
-        for (const StrengthRound& r : rounds)
-          if (r.elastic_set == line_id)
-            line_samples.push_back({r.ratios, std::log(r.measured.ucs_pa / r.measured.tensile_strength_pa)});
-        for (const SurrogateMeasurement& m : surrogate_.stored_measurements())
-          if (m.ucs_per_strength > 0.0 && m.tensile_per_strength > 0.0)
-            stored_samples.push_back({m.ratios, std::log(m.ucs_per_strength / m.tensile_per_strength)});
-        // Towards the end (in the direction of growing Rt/Rn when the end is the upper one).
-        const double toward = end > 0.5 * (x_lo + x_hi) ? 1.0 : -1.0;
-        auto trend_in = [&](const std::vector<Sample>& samples) {
-          for (const Sample& a : samples)
-            for (const Sample& b : samples) {
-              if (!SameElastic(a.ratios, b.ratios)) continue;
-              const double step = toward * (Get(a.ratios, kX) - Get(b.ratios, kX));  // a nearer the end
-              if (!(step >= 0.1 * width)) continue;
-              if (above ? a.log_ratio >= b.log_ratio : a.log_ratio <= b.log_ratio) return true;
+      } else if (tensile_honoured && !x_free && !ratio_measured_in_reach && !met(k)) {
+        // Rt/Rn is not an input of the maps: one measurement shows the ratio this elastic set gives.
+        tensile_honoured = false;
+        solution->notes.push_back("sigma_c / sigma_t = " + Number("%.3f", target_.StrengthRatio()) + ": round " +
+                                  std::to_string(round) + " measured " + Number("%.3f", std::exp(measured_ratio)) +
+                                  ", and Rt/Rn is not an input of these maps; " +
+                                  (compressive ? "sigma_t" : "the UCS") +
+                                  " is given up");
+      } else if (tensile_honoured && x_free && !ratio_measured_in_reach && !met(k) && !last) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo, x_of_lo = x_lo, x_of_hi = x_hi;
+        for (int j = 0; j <= 100; ++j) {
+          const double v = x_lo + width * j / 100.0, value = ratio_at(v);
+          if (value < lo) lo = value, x_of_lo = v;
+          if (value > hi) hi = value, x_of_hi = v;
+        }
+        const bool above = log_ratio > hi + slack, below = log_ratio < lo - slack;
+        if (above || below) {
+          const double end = above ? x_of_hi : x_of_lo;
+          bool measured_at_end = false;
+          for (const StrengthRound& r : rounds) {
+            const double rr = std::log(r.measured.ucs_pa / r.measured.tensile_strength_pa);
+            if (r.elastic_set == line_id && std::abs(Get(r.ratios, kX) - end) <= 0.02 * width &&
+                (above ? rr < log_ratio - slack : rr > log_ratio + slack))
+              measured_at_end = true;
+          }
+          // The maps' trend towards that end must be measured too: two rounds 10 % of the box
+          // apart, the one nearer the end nearer the target, or two stored measurements at
+          // one elastic set whose ratio moves the same way along Rt/Rn. Where it is not, a
+          // probe a quarter of the box inwards measures it, since a map can have it wrong.
+          struct Sample {
+            MicroRatios ratios;
+            double log_ratio;
+          };
+          std::vector<Sample> line_samples, stored_samples;
+          for (const StrengthRound& r : rounds)
+            if (r.elastic_set == line_id)
+              line_samples.push_back({r.ratios, std::log(r.measured.ucs_pa / r.measured.tensile_strength_pa)});
+          for (const SurrogateMeasurement& m : surrogate_.stored_measurements())
+            if (m.ucs_per_strength > 0.0 && m.tensile_per_strength > 0.0)
+              stored_samples.push_back({m.ratios, std::log(m.ucs_per_strength / m.tensile_per_strength)});
+          // Towards the end (in the direction of growing Rt/Rn when the end is the upper one).
+          const double toward = end > 0.5 * (x_lo + x_hi) ? 1.0 : -1.0;
+          auto trend_in = [&](const std::vector<Sample>& samples) {
+            for (const Sample& a : samples)
+              for (const Sample& b : samples) {
+                if (!SameElastic(a.ratios, b.ratios)) continue;
+                const double step = toward * (Get(a.ratios, kX) - Get(b.ratios, kX));  // a nearer the end
+                if (!(step >= 0.1 * width)) continue;
+                if (above ? a.log_ratio >= b.log_ratio : a.log_ratio <= b.log_ratio) return true;
+              }
+            return false;
+          };
+          const bool trend_measured = trend_in(line_samples) || trend_in(stored_samples);
+          if (measured_at_end && !trend_measured) {
+            probe_x = std::clamp(end + (end > 0.5 * (x_lo + x_hi) ? -0.25 : 0.25) * width, x_lo, x_hi);
+            measured_at_end = false;
+          }
+          if (measured_at_end) {
+            MicroRatios next_start;
+            double unused_lo = 0.0, unused_hi = 0.0;
+            constexpr int kMaxReplans = 2;
+            if (reach_.deformable && solution->replans < kMaxReplans &&
+                DeformableStart(set.confirmed.poisson_ratio, Get(set.ratios, MicroRatio::kStiffnessRatio),
+                                &next_start, &unused_lo, &unused_hi) &&
+                log_ratio >= std::log(unused_lo) - slack && log_ratio <= std::log(unused_hi) + slack) {
+              const std::string why =
+                  "round " + std::to_string(round) + ": sigma_c / sigma_t is out of reach at kt/kn " +
+                  Number("%.4g", Get(set.ratios, MicroRatio::kStiffnessRatio)) + " (measured " +
+                  Number("%.3f", std::exp(measured_ratio)) + " at Rt/Rn " + Number("%.4g", x) + "); ";
+              const std::string other_kt = Number("%.4g", Get(next_start, MicroRatio::kStiffnessRatio));
+              // An elastic run that fails at the other kt/kn leaves this elastic set and its rounds
+              // as they are: the ratio is then given up here, as without a re-plan.
+              try {
+                set = ElasticStage(next_start);
+                replan = true;
+                solution->notes.push_back(why + "the elastic stage re-runs at kt/kn " + other_kt +
+                                          ", where the corrected maps reach it");
+                ++solution->replans;
+                ++line_id;
+              } catch (const ComputationError& e) {
+                solution->notes.push_back(why + "the elastic stage at kt/kn " + other_kt + " failed (" + e.what() +
+                                          "), so the ratio is given up at this elastic set");
+              }
             }
-          return false;
-        };
-        const bool trend_measured = trend_in(line_samples) || trend_in(stored_samples);
-        if (measured_at_end && !trend_measured) {
-          probe_x = std::clamp(end + (end > 0.5 * (x_lo + x_hi) ? -0.25 : 0.25) * width, x_lo, x_hi);
-          measured_at_end = false;
-        }
-        if (measured_at_end) {
-          MicroRatios next_start;
-          double unused_lo = 0.0, unused_hi = 0.0;
-          constexpr int kMaxReplans = 2;
-          if (reach_.deformable && solution->replans < kMaxReplans &&
-              DeformableStart(set.confirmed.poisson_ratio, Get(set.ratios, MicroRatio::kStiffnessRatio),
-                              &next_start, &unused_lo, &unused_hi) &&
-              log_ratio >= std::log(unused_lo) - slack && log_ratio <= std::log(unused_hi) + slack) {
-            replan = true;
-            solution->notes.push_back(
-                "round " + std::to_string(round) + ": sigma_c / sigma_t is out of reach at kt/kn " +
-                Number("%.4g", Get(set.ratios, MicroRatio::kStiffnessRatio)) + " (measured " +
-                Number("%.3f", std::exp(measured_ratio)) + " at Rt/Rn " + Number("%.4g", x) +
-                "); the elastic stage re-runs at kt/kn " + Number("%.4g", Get(next_start, MicroRatio::kStiffnessRatio)) +
-                ", where the corrected maps reach it");
-            set = ElasticStage(next_start);
-            ++solution->replans;
-            ++line_id;
-          } else {
-            tensile_honoured = false;
-            solution->notes.push_back(
-                "sigma_c / sigma_t = " + Number("%.3f", target_.StrengthRatio()) +
-                " is out of reach on this specimen: round " + std::to_string(round) + " measured " +
-                Number("%.3f", std::exp(measured_ratio)) + " at Rt/Rn " + Number("%.4g", x) +
-                ", and Rt/Rn in [" + Number("%.4g", x_lo) + ", " + Number("%.4g", x_hi) + "] gives " +
-                Number("%.3f", std::exp(lo)) + " to " + Number("%.3f", std::exp(hi)) + " (corrected by the rounds); " +
-                (compressive ? "sigma_t" : "the UCS") + " is given up");
-            reach_.strength_ratio_reachable = reach_.strength_ratio_possible = false;
-            reach_.strength_ratio_min = std::exp(lo);
-            reach_.strength_ratio_max = std::exp(hi);
-            reach_.nearest_strength_ratio =
-                std::clamp(target_.StrengthRatio(), reach_.strength_ratio_min, reach_.strength_ratio_max);
-            given_up_x = end;
+            if (!replan) {
+              tensile_honoured = false;
+              solution->notes.push_back(
+                  "sigma_c / sigma_t = " + Number("%.3f", target_.StrengthRatio()) +
+                  " is out of reach on this specimen: round " + std::to_string(round) + " measured " +
+                  Number("%.3f", std::exp(measured_ratio)) + " at Rt/Rn " + Number("%.4g", x) +
+                  ", and Rt/Rn in [" + Number("%.4g", x_lo) + ", " + Number("%.4g", x_hi) + "] gives " +
+                  Number("%.3f", std::exp(lo)) + " to " + Number("%.3f", std::exp(hi)) +
+                  " (corrected by the rounds); " +
+                  (compressive ? "sigma_t" : "the UCS") + " is given up");
+              reach_.strength_ratio_reachable = reach_.strength_ratio_possible = false;
+              reach_.strength_ratio_min = std::exp(lo);
+              reach_.strength_ratio_max = std::exp(hi);
+              reach_.nearest_strength_ratio =
+                  std::clamp(target_.StrengthRatio(), reach_.strength_ratio_min, reach_.strength_ratio_max);
+              given_up_x = end;
+            }
           }
         }
       }
-    }
-    if (ratio_measured_in_reach) reach_.strength_ratio_reachable = reach_.strength_ratio_possible = true;
+      if (ratio_measured_in_reach) reach_.strength_ratio_reachable = reach_.strength_ratio_possible = true;
 
-    // Accept or reject (the weights may just have changed: re-rank every round).
-    for (StrengthRound& r : rounds) r.weighted_error = weighted_error(r);
-    int previous_best_on_line = -1, best_on_line = -1;
-    best = 0;
-    for (int i = 0; i < static_cast<int>(rounds.size()); ++i) {
-      if (better(rounds[i], rounds[best])) best = i;
-      if (rounds[i].elastic_set != k.elastic_set) continue;
-      if (i + 1 < static_cast<int>(rounds.size()) &&
-          (previous_best_on_line < 0 || better(rounds[i], rounds[previous_best_on_line])))
-        previous_best_on_line = i;
-      if (best_on_line < 0 || better(rounds[i], rounds[best_on_line])) best_on_line = i;
-    }
-    StrengthRound& now = rounds.back();
-    now.accepted = best == static_cast<int>(rounds.size()) - 1;
-    if (previous_best_on_line >= 0) {
-      // A round that moved only Rn (exactly proportional to the strengths) says nothing about
-      // the step of Rt/Rn: its rejection is the path noise of the peak, and the region stays.
-      const double moved = std::abs(x - Get(rounds[previous_best_on_line].ratios, kX));
-      bool improved = best_on_line == static_cast<int>(rounds.size()) - 1;
-      if (tensile_honoured) {
-        // Rt/Rn steers sigma_c / sigma_t; Rn, fitted anew every round, only the level. The
-        // step of Rt/Rn is judged by the ratio alone: a round whose Rn missed can still have
-        // moved the ratio the right way (a DDEM twin on rigid particles: the ratio 16.6 at
-        // Rt/Rn 4.39, 16.4 at 2.85 with the UCS 20 % high, target 13.4; judged by the weighted
-        // error the region shrank to [2.85, 5.2], where the ratio stays flat).
-        auto ratio_miss = [&](const StrengthRound& r) {
-          return std::abs(std::log(r.measured.ucs_pa / r.measured.tensile_strength_pa) - log_ratio);
-        };
-        double previous_miss = std::numeric_limits<double>::infinity();
-        for (size_t i = 0; i + 1 < rounds.size(); ++i)
-          if (rounds[i].elastic_set == k.elastic_set) previous_miss = std::min(previous_miss, ratio_miss(rounds[i]));
-        improved = ratio_miss(now) < previous_miss;
+      // Accept or reject (the weights may just have changed: re-rank every round).
+      for (StrengthRound& r : rounds) r.weighted_error = weighted_error(r);
+      int previous_best_on_line = -1;
+      best = 0;
+      for (int i = 0; i < static_cast<int>(rounds.size()); ++i) {
+        if (better(rounds[i], rounds[best])) best = i;
+        if (rounds[i].elastic_set != k.elastic_set) continue;
+        if (i + 1 < static_cast<int>(rounds.size()) &&
+            (previous_best_on_line < 0 || better(rounds[i], rounds[previous_best_on_line])))
+          previous_best_on_line = i;
+        if (best_on_line < 0 || better(rounds[i], rounds[best_on_line])) best_on_line = i;
       }
-      if (moved > 1e-9 * std::max(1.0, width))
-        trust = improved ? std::min(width, std::max(trust, 2.0 * moved)) : std::max(0.5 * moved, 0.02 * width);
+      StrengthRound& now = rounds.back();
+      now.accepted = best == static_cast<int>(rounds.size()) - 1;
+      if (previous_best_on_line >= 0) {
+        // A round that moved only Rn (exactly proportional to the strengths) says nothing about
+        // the step of Rt/Rn: its rejection is the path noise of the peak, and the region stays.
+        const double moved = std::abs(x - Get(rounds[previous_best_on_line].ratios, kX));
+        bool improved = best_on_line == static_cast<int>(rounds.size()) - 1;
+        if (tensile_honoured) {
+          // Rt/Rn steers sigma_c / sigma_t; Rn, fitted anew every round, only the level. The
+          // step of Rt/Rn is judged by the ratio alone: a round whose Rn missed can still have
+          // moved the ratio the right way (a DDEM twin on rigid particles: the ratio 16.6 at
+          // Rt/Rn 4.39, 16.4 at 2.85 with the UCS 20 % high, target 13.4; judged by the weighted
+          // error the region shrank to [2.85, 5.2], where the ratio stays flat).
+          auto ratio_miss = [&](const StrengthRound& r) {
+            return std::abs(std::log(r.measured.ucs_pa / r.measured.tensile_strength_pa) - log_ratio);
+          };
+          double previous_miss = std::numeric_limits<double>::infinity();
+          for (size_t i = 0; i + 1 < rounds.size(); ++i)
+            if (rounds[i].elastic_set == k.elastic_set) previous_miss = std::min(previous_miss, ratio_miss(rounds[i]));
+          improved = ratio_miss(now) < previous_miss;
+        }
+        if (moved > 1e-9 * std::max(1.0, width))
+          trust = improved ? std::min(width, std::max(trust, 2.0 * moved)) : std::max(0.5 * moved, 0.02 * width);
+      }
     }
+    StrengthRound& now = k.failed ? failed_rounds.back() : rounds.back();
     now.trust_radius = trust;
-    if (met(now) || round == options_.max_strength_rounds) break;
+    if ((!now.failed && met(now)) || last) break;
 
     // The next Rt/Rn: the corrected ratio's root nearest this set's best round, inside the
     // region; once the ratio is given up, the end that comes nearest it, kept.
     std::ostringstream step;
-    step << (now.accepted ? "accepted" : "rejected (best is round " + std::to_string(best + 1) + ")");
+    if (now.failed)
+      step << "failed, rejected" << (best >= 0 ? " (best is round " + std::to_string(rounds[best].round) + ")" : "");
+    else
+      step << (now.accepted ? "accepted" : "rejected (best is round " + std::to_string(rounds[best].round) + ")");
     if (replan) {
       trust = width;
       x = x_free ? ratio_x(x_lo, x_hi, 0.5 * (x_lo + x_hi)) : x_lo;
       step << "; new elastic set: kt/kn " << Number("%.4g", Get(set.ratios, MicroRatio::kStiffnessRatio))
            << ", kn/(Ep l) " << Number("%.4g", Get(set.ratios, MicroRatio::kParticleCompliance)) << "; Rt/Rn "
            << Number("%.4g", x);
+    } else if (best_on_line < 0) {
+      // Only failed rounds at this elastic set: nothing corrects the line, which would send
+      // the round back to them. A measurement anywhere on the line does: the middle of the
+      // widest interval of Rt/Rn they leave.
+      std::vector<double> failed_x;
+      for (const StrengthRound& f : failed_rounds)
+        if (f.elastic_set == line_id) failed_x.push_back(Get(f.ratios, kX));
+      const double next = WidestGapMiddle(failed_x, x_lo, x_hi);
+      step << "; nothing measured at this elastic set: Rt/Rn " << Number("%.4g", x) << " -> " << Number("%.4g", next)
+           << ", the middle of the widest interval the failed rounds leave";
+      x = next;
     } else if (x_free) {
       double next;
       if (probe_x >= x_lo) {
@@ -987,15 +1071,60 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
     }
     double next_log_rn, unused_c, unused_t;
     predict(x, &next_log_rn, &unused_c, &unused_t);
+    // The line, uncorrected by a failed round, can send the next round back to its point: the
+    // step from the best round is halved until the point is clear of every failed one (Rt/Rn
+    // first, Rn re-predicted there; at the best round's Rt/Rn, Rn). When only the best round's
+    // own point is left, nothing new can be measured at this elastic set and the stage ends.
+    auto on_failed = [&](double at_x, double at_log_rn) {
+      for (const StrengthRound& f : failed_rounds)
+        if (f.elastic_set == line_id && same_point(f, at_x, at_log_rn)) return true;
+      return false;
+    };
+    bool nothing_left = false;
+    if (!replan && on_failed(x, next_log_rn)) {
+      const double from_x = x, from_rn = std::exp(next_log_rn);
+      nothing_left = best_on_line < 0;
+      constexpr int kMaxHalvings = 10;  // 2^-10 of any step in the box is within the same point
+      for (int h = 0; h < kMaxHalvings && !nothing_left && on_failed(x, next_log_rn); ++h) {
+        const StrengthRound& b = rounds[best_on_line];
+        const double best_x = Get(b.ratios, kX), best_log_rn = std::log(b.bond_tensile_strength);
+        if (std::abs(x - best_x) > same_x) {
+          x = 0.5 * (x + best_x);
+          predict(x, &next_log_rn, &unused_c, &unused_t);
+        } else {
+          next_log_rn = 0.5 * (next_log_rn + best_log_rn);
+        }
+        nothing_left = same_point(b, x, next_log_rn);
+      }
+      nothing_left = nothing_left || on_failed(x, next_log_rn);
+      double predicted_log_rn;
+      predict(x, &predicted_log_rn, &unused_c, &unused_t);
+      rn_shift = next_log_rn - predicted_log_rn;  // the next round's Rn, held where the halving left it
+      step << "; Rt/Rn " << Number("%.4g", from_x) << ", Rn " << Number("%.5g", from_rn)
+           << " N is a failed point: the step from the best round halved (Rt/Rn " << Number("%.4g", x) << ")";
+    }
     step << "; Rn -> " << Number("%.5g", std::exp(next_log_rn)) << " N";
+    if (nothing_left) {
+      const std::string why = best_on_line < 0 ? "nothing measured at this elastic set to step back to"
+                                               : "halving the step left only the best round's own point";
+      step << "; " << why << ": the stage ends";
+      now.step = step.str();
+      solution->notes.push_back("the strength stage ended after round " + std::to_string(round) +
+                                ": the next point was a failed one, and " + why);
+      break;
+    }
     now.step = step.str();
   }
-  solution->best_round = best;
   solution->tensile_honoured = tensile_honoured;
+  // What is given up, as the stage ended (a ratio declared out of reach before the first round
+  // may have been measured within reach since).
+  reach_.given_up.clear();
+  if (!reach_.poisson_reachable) reach_.given_up.push_back("nu");
+  if (!tensile_honoured) reach_.given_up.push_back(compressive ? "sigma_t" : "UCS");
   // The path noise, measured: rounds at the best round's Rt/Rn, about their trend in ln Rn
   // (the least-squares line; the noise of a test is the scatter of its peak between runs
   // whose parameters barely differ).
-  {
+  if (best >= 0) {
     const StrengthRound& b = rounds[best];
     std::vector<const StrengthRound*> here;
     for (const StrengthRound& k : rounds)
@@ -1011,24 +1140,39 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
           (noisy ? "; more than half a tolerance, so a round within the tolerances there is partly chance" : ""));
     }
   }
-  // What is given up, as the stage ended (a ratio declared out of reach before the first round
-  // may have been measured within reach since).
-  reach_.given_up.clear();
-  if (!reach_.poisson_reachable) reach_.given_up.push_back("nu");
-  if (!tensile_honoured) reach_.given_up.push_back(compressive ? "sigma_t" : "UCS");
-  const StrengthRound& b = rounds[best];
-  solution->normal_stiffness = b.normal_stiffness;
-  solution->bond_tensile_strength = b.bond_tensile_strength;
-  solution->ratios = b.ratios;
+  // The result: the best round's set; with no round measured, the elastic set alone.
+  const StrengthRound* b = best >= 0 ? &rounds[best] : nullptr;
+  solution->normal_stiffness = set.normal_stiffness;
+  solution->bond_tensile_strength = 0.0;
+  solution->ratios = With(set.ratios, kX, x);
+  double youngs = set.confirmed.youngs_modulus_pa, poisson = set.confirmed.poisson_ratio;
+  if (b) {
+    solution->normal_stiffness = b->normal_stiffness;
+    solution->bond_tensile_strength = b->bond_tensile_strength;
+    solution->ratios = b->ratios;
+    youngs = b->elastic_youngs_modulus_pa, poisson = b->elastic_poisson_ratio;
+  } else {
+    solution->notes.push_back("no strength round measured anything: all " + std::to_string(failed_rounds.size()) +
+                              " failed, so there is no result (the rounds give each failure)");
+  }
   for (const ElasticRun& run : runs_)
-    if (run.purpose == "E" && SameElastic(run.query.ratios, b.ratios) && Same(run.query.normal_stiffness, b.normal_stiffness))
+    if (run.purpose == "E" && SameElastic(run.query.ratios, solution->ratios) &&
+        Same(run.query.normal_stiffness, solution->normal_stiffness))
       solution->elastic = run;
-  solution->error_youngs = b.elastic_youngs_modulus_pa / target_.youngs_modulus_pa - 1.0;
-  solution->error_poisson = b.elastic_poisson_ratio / target_.poisson_ratio - 1.0;
+  solution->error_youngs = youngs / target_.youngs_modulus_pa - 1.0;
+  solution->error_poisson = poisson / target_.poisson_ratio - 1.0;
   solution->elastic_converged = std::abs(solution->error_youngs) <= options_.tolerance_youngs &&
                                 (std::abs(solution->error_poisson) <= options_.tolerance_poisson ||
                                  !reach_.poisson_reachable);
-  solution->converged = solution->elastic_converged && met(b);
+  solution->converged = b && solution->elastic_converged && met(*b);
+  // Every round in the order it ran, the failed ones among them; best_round indexes this list.
+  const int best_number = b ? b->round : 0;
+  rounds.insert(rounds.end(), failed_rounds.begin(), failed_rounds.end());
+  std::stable_sort(rounds.begin(), rounds.end(),
+                   [](const StrengthRound& p, const StrengthRound& q) { return p.round < q.round; });
+  solution->best_round = -1;
+  for (int i = 0; i < static_cast<int>(rounds.size()); ++i)
+    if (rounds[i].round == best_number) solution->best_round = i;
 }
 
 std::string CalibrationReach::Describe(const TargetMaterial& target) const {

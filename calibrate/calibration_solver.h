@@ -26,7 +26,9 @@
 //    accepted only if its weighted error (errors over their tolerances, squared) falls below
 //    the best. The region of Rt/Rn grows when a round's ratio came nearer the target than
 //    any before and otherwise shrinks to half the step, so no ratio swings across its box.
-//    The result is the best round, not the last.
+//    A round whose test fails (diverges) is rejected like a worse one, and its point is a hole
+//    the later rounds keep out of; the stage goes on with its budget. The result is the best
+//    round, not the last.
 //
 //   CalibrationSolver solver(surrogate, target, options, &forward_model);
 //   const CalibrationReach& reach = solver.AssessReach();   // a few elastic runs
@@ -129,6 +131,11 @@ struct StrengthRound {
   bool accepted = false;        // the best so far when it ran
   double trust_radius = 0.0;    // of Rt/Rn after this round
   std::string step;             // how the next round was chosen
+  // A test of the round failed (ForwardModel::MeasureStrength threw ComputationError: a run
+  // diverged, found no peak, or the solver refused the point): nothing measured, the round is
+  // rejected and the later rounds keep out of its point. `failure` names the test and why.
+  bool failed = false;
+  std::string failure;
 };
 
 struct CalibrationSolution {
@@ -138,8 +145,8 @@ struct CalibrationSolution {
   ElasticRun elastic;
   double error_youngs = 0.0, error_poisson = 0.0;
   bool elastic_converged = false;
-  std::vector<StrengthRound> rounds;
-  int best_round = -1;  // index into rounds
+  std::vector<StrengthRound> rounds;  // in the order they ran, failed ones included
+  int best_round = -1;  // index into rounds; -1 when every round failed (no result)
   bool tensile_honoured = true;
   int replans = 0;  // DDEM: elastic stages re-run at another kt/kn for the strength ratio
   bool converged = false;  // every honoured property within its tolerance

@@ -44,7 +44,8 @@ class ForwardModel {
   // Throws ComputationError when a run fails.
   virtual std::vector<ElasticMeasurement> MeasureElastic(const std::vector<ElasticQuery>& queries) = 0;
   // UCS and Brazilian strengths at kn, Rn and the ratios (Rt = Rt/Rn x Rn, kt = kt/kn x kn).
-  // Throws ComputationError when a test fails (diverges, or no peak within its strain limit).
+  // Throws ComputationError when a test fails (diverges, or no peak within its strain limit),
+  // its message naming the test; the loop records a failed round and goes on.
   virtual StrengthMeasurement MeasureStrength(double normal_stiffness, double bond_tensile_strength,
                                               const MicroRatios& ratios) = 0;
 };

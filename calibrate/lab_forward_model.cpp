@@ -89,16 +89,33 @@ StrengthMeasurement LabForwardModel<Dim>::MeasureStrength(double kn, double rn, 
   ucs_test.kind = LabTestKind::kUniaxialCompression;
   bts_test.kind = LabTestKind::kBrazilian;
   if (settings_.progress) ucs_test.progress = [&](double f, const std::string& m) { settings_.progress(f, "UCS: " + m); };
-  try {
-    auto bts = std::async(std::launch::async, [&]() { return RunLabTest<Dim>(bts_, tests.material, bts_test); });
-    tests.ucs = RunLabTest<Dim>(ucs_, tests.material, ucs_test);
-    tests.bts = bts.get();
-  } catch (const InputError& e) {
-    RethrowAsOwnFailure(e, kn, ratios);
+  // Each test's failure is caught on its own, so that the message names the test (and both,
+  // when both fail); the round is kept with its failure, so that strength_tests() stays one
+  // entry per round.
+  auto run = [&](const char* name, const Packing<Dim>& specimen, const LabTestOptions& options,
+                 LabTestResult* out) -> std::string {
+    try {
+      try {
+        *out = RunLabTest<Dim>(specimen, tests.material, options);
+      } catch (const InputError& e) {
+        RethrowAsOwnFailure(e, kn, ratios);
+      }
+      if (!out->peak_reached) throw ComputationError("reached its strain limit without a peak");
+    } catch (const ComputationError& e) {
+      return std::string(name) + " test: " + e.what();
+    }
+    return "";
+  };
+  std::string bts_failure;
+  auto bts = std::async(std::launch::async, [&]() { bts_failure = run("Brazilian", bts_, bts_test, &tests.bts); });
+  std::string failure = run("UCS", ucs_, ucs_test, &tests.ucs);
+  bts.get();
+  if (!bts_failure.empty()) failure += (failure.empty() ? "" : "; ") + bts_failure;
+  if (!failure.empty()) {
+    tests.failure = failure;
+    strength_tests_.push_back(std::move(tests));
+    throw ComputationError(failure);
   }
-  if (!tests.ucs.peak_reached || !tests.bts.peak_reached)
-    throw ComputationError(std::string("the ") + (!tests.ucs.peak_reached ? "UCS" : "Brazilian") +
-                           " test reached its strain limit without a peak");
   StrengthMeasurement m;
   m.ucs_pa = tests.ucs.peak_stress_pa;
   m.tensile_strength_pa = tests.bts.tensile_strength_pa;

@@ -41,10 +41,12 @@ class LabForwardModel : public ForwardModel {
   StrengthMeasurement MeasureStrength(double normal_stiffness, double bond_tensile_strength,
                                       const MicroRatios& ratios) override;
 
-  // The tests of every strength round so far, in order (for the outputs of the best one).
+  // The tests of every strength round so far, in order (for the outputs of the best one); a
+  // round whose test failed is kept with its failure (MeasureStrength threw it).
   struct RoundTests {
     MaterialParameters material;
     LabTestResult ucs, bts;
+    std::string failure;  // empty when both tests measured their strength
   };
   const std::vector<RoundTests>& strength_tests() const { return strength_tests_; }
   MaterialParameters MaterialFor(double normal_stiffness, double bond_tensile_strength,

@@ -10,7 +10,8 @@
 //    on a terminal).
 // 4. Print the report and write the parameters, scenes, report, maps and pictures. Exit 0
 //    when every property is met, 4 when one is out of reach (the report says which, and
-//    what is reachable) or the budget was spent.
+//    what is reachable), the budget was spent or every strength round failed (a failed
+//    round is reported and the loop goes on without it).
 
 #include <CLI/CLI.hpp>
 
@@ -141,6 +142,13 @@ int Run(const TargetMaterial& target, CalibrationOptions options, const CommandL
   std::cout << "files:\n";
   for (const auto& file : written.files) std::cout << "  " << file << "\n";
   for (const auto& warning : written.warnings) std::cerr << "warning: " << warning << "\n";
+  for (const VerificationRound& v : summary.rounds)
+    if (v.failed) std::cerr << "warning: strength round " << v.round << " failed: " << v.failure << "\n";
+  if (summary.best_round < 1) {
+    std::cerr << "calibrate-to-material: no strength round measured anything (every one failed; the report "
+                 "gives each failure and its parameters)\n";
+    return kExitComputation;
+  }
   if (summary.gave_up) {
     std::cerr << "calibrate-to-material: the target is out of reach on this specimen; given up:";
     for (const std::string& g : summary.solution.reach.given_up) std::cerr << " " << g;

@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <random>
 
 #include "common/error.h"
@@ -139,6 +140,10 @@ class FakeModel : public ForwardModel {
   }
   StrengthMeasurement MeasureStrength(double kn, double rn, const MicroRatios& r) override {
     ++strength_rounds;
+    if (diverges && diverges(strength_rounds, rn, r)) {
+      ++diverged_rounds;
+      throw ComputationError("UCS test: the run diverged at step 184,886: a wall reaction became NaN.");
+    }
     StrengthMeasurement m;
     m.ucs_pa = UcsScale(rn) * Rock::UcsPerStrength(r) * Steeper(r) * Noise(strength_noise_);
     m.tensile_strength_pa = rn * Rock::TensilePerStrength(r) * Noise(strength_noise_);
@@ -146,7 +151,10 @@ class FakeModel : public ForwardModel {
     m.linear_poisson_ratio = Rock::Poisson(r);
     return m;
   }
-  int elastic_runs = 0, strength_rounds = 0;
+  int elastic_runs = 0, strength_rounds = 0, diverged_rounds = 0;
+  // Where a strength round's test diverges (the forward model throws ComputationError): by the
+  // count of the round (1-based), Rn and the ratios. Empty: nowhere.
+  std::function<bool(int, double, const MicroRatios&)> diverges;
   // sigma_c grows as Rn^beta about Rn 5e3 N (1: proportional; real specimens at high Rt/Rn
   // show less, since their strengths also depend on Rn / (kn r)).
   double ucs_strength_exponent = 1.0;
@@ -239,6 +247,13 @@ std::string Rounds(const CalibrationSolution& s) {
     text += line;
   }
   for (const StrengthRound& r : s.rounds) {
+    if (r.failed) {
+      std::snprintf(line, sizeof(line), "  round %d FAILED: Rt/Rn %.4f Rn %.5g trust %.3g | %s | %s\n", r.round,
+                    r.ratios.shear_to_tensile_strength, r.bond_tensile_strength, r.trust_radius, r.failure.c_str(),
+                    r.step.c_str());
+      text += line;
+      continue;
+    }
     std::snprintf(line, sizeof(line),
                   "  round %d: Rt/Rn %.4f Rn %.5g predicted %.4g / %.4g errors %+.4f %+.4f W %.3f %s trust %.3g | %s\n",
                   r.round, r.ratios.shear_to_tensile_strength, r.bond_tensile_strength, r.predicted_ucs_pa,
@@ -246,6 +261,7 @@ std::string Rounds(const CalibrationSolution& s) {
                   r.accepted ? "accepted" : "rejected", r.trust_radius, r.step.c_str());
     text += line;
   }
+  for (const std::string& n : s.notes) text += "  note: " + n + "\n";
   return text;
 }
 
@@ -257,7 +273,7 @@ void ExpectNoStepAgainstTheRounds(const CalibrationSolution& s, double target_ra
     double smallest = 1e300, largest = -1e300;
     for (size_t j = 0; j < k; ++j) {
       const StrengthRound& r = s.rounds[j];
-      if (r.elastic_set != s.rounds[k].elastic_set) continue;
+      if (r.elastic_set != s.rounds[k].elastic_set || r.failed) continue;  // a failed round measured nothing
       any = true;
       const double ratio = r.measured.ucs_pa / r.measured.tensile_strength_pa;
       all_above = all_above && ratio > target_ratio;
@@ -702,6 +718,120 @@ TEST(CalibrationSolver, MapsWithoutTheStrengthRatioGiveUpSigmaTAfterOneRound) {
   EXPECT_TRUE(s.converged);
   EXPECT_LE(static_cast<int>(s.rounds.size()), 3);
   for (const StrengthRound& r : s.rounds) EXPECT_DOUBLE_EQ(r.ratios.shear_to_tensile_strength, 6.0);
+}
+
+// Two rounds at one point, as the loop judges it: Rt/Rn within 1 % of its box (8 wide here)
+// and Rn within 1 %.
+bool SamePoint(const StrengthRound& a, const StrengthRound& b) {
+  constexpr double kBoxWidth = 8.0;
+  return a.elastic_set == b.elastic_set &&
+         std::abs(a.ratios.shear_to_tensile_strength - b.ratios.shear_to_tensile_strength) <= 0.01 * kBoxWidth &&
+         std::abs(std::log(a.bond_tensile_strength / b.bond_tensile_strength)) <= std::log(1.01);
+}
+
+// No round after a failed one runs at its point.
+void ExpectNoStepOntoAFailedRound(const CalibrationSolution& s) {
+  for (size_t f = 0; f < s.rounds.size(); ++f)
+    for (size_t k = f + 1; s.rounds[f].failed && k < s.rounds.size(); ++k)
+      EXPECT_FALSE(SamePoint(s.rounds[f], s.rounds[k])) << "round " << k + 1 << " at failed round " << f + 1;
+}
+
+// The test of round `first` diverges, and so would any later one at that point (a hole in the
+// box): the model counts it as a second divergence.
+void DivergeAtRoundAndAfterAtItsPoint(FakeModel* model, int first) {
+  auto hole = std::make_shared<StrengthRound>();
+  model->diverges = [first, hole](int round, double rn, const MicroRatios& r) {
+    StrengthRound here;
+    here.ratios = r;
+    here.bond_tensile_strength = rn;
+    if (round == first) *hole = here;
+    return round == first || (round > first && SamePoint(*hole, here));
+  };
+}
+
+// A verification round whose test diverges (the forward model throws ComputationError, as the
+// lab's does for "a wall reaction became NaN") is a failed round, not the end of the
+// calibration: it is recorded with its message, rejected, its point is not stepped on again,
+// and the loop converges with the rest of its budget. Round 1 failing (nothing measured yet on
+// the line) and round 2 failing (after a measured round), on maps without anchors, where no
+// twin is met in round 1. (Their twin at kt/kn 0.85, Rt/Rn 9 is left out: its ratio lies on
+// the plateau at the top of the reach, where the parabola of three rounds can peak below it
+// and the reach rule give sigma_t up, whether a round failed or not.)
+TEST(CalibrationSolver, ADivergedRoundIsRejectedAndTheLoopGoesOn) {
+  const double hidden[][2] = {{0.2, 3.0}, {0.3, 8.0}, {0.5, 5.0}, {0.7, 2.5}, {0.25, 6.0}};
+  for (int failing : {1, 2}) {
+    unsigned seed = 21;
+    for (const auto& h : hidden) {
+      SCOPED_TRACE("hidden kt/kn " + std::to_string(h[0]) + ", Rt/Rn " + std::to_string(h[1]) + "; round " +
+                   std::to_string(failing) + " diverges");
+      const TargetMaterial target = Twin(2e10, 5e3, Rigid(h[0], h[1]));
+      FakeModel model(seed++);
+      DivergeAtRoundAndAfterAtItsPoint(&model, failing);
+      CalibrationSolverOptions o = Options();
+      o.max_strength_rounds = 7;  // the budget without anchors, and the failed round
+      CalibrationSolver solver(CalibrationSurrogate(FitMapsOf(false, 0.0), Specimen2D(), Specimen2D()), target, o,
+                               &model);
+      const CalibrationSolution s = solver.Solve();
+      SCOPED_TRACE(Rounds(s));
+      ASSERT_GE(static_cast<int>(s.rounds.size()), failing);
+      const StrengthRound& failed = s.rounds[failing - 1];
+      EXPECT_TRUE(failed.failed);
+      EXPECT_NE(failed.failure.find("a wall reaction became NaN"), std::string::npos) << failed.failure;
+      EXPECT_FALSE(failed.accepted);
+      EXPECT_EQ(model.diverged_rounds, 1);  // its point was not tried again
+      ExpectNoStepOntoAFailedRound(s);
+      ExpectNoStepAgainstTheRounds(s, target.StrengthRatio());
+      ExpectConverged(s, o, o.max_strength_rounds);
+      EXPECT_FALSE(s.rounds[s.best_round].failed);
+      for (size_t k = 0; k < s.rounds.size(); ++k) EXPECT_EQ(s.rounds[k].round, static_cast<int>(k) + 1);
+    }
+  }
+}
+
+// Where sigma_t is given up, Rt/Rn stays at the end of the box and Rn alone meets the UCS. A
+// step of Rn that diverges is not repeated: the next one goes half way back to the best round's
+// Rn, and the loop still meets the UCS or ends without stepping on the failed point.
+TEST(CalibrationSolver, ADivergedStepOfRnAloneIsNotRepeated) {
+  TargetMaterial target = Twin(2e10, 5e3, Rigid(0.3, 6.0));
+  target.tensile_strength_pa = target.ucs_pa / 40.0;  // sigma_c / sigma_t = 40: out of reach
+  for (unsigned seed : {3u, 5u, 8u}) {
+    FakeModel model(seed);
+    DivergeAtRoundAndAfterAtItsPoint(&model, 2);
+    const CalibrationSolution s =
+        CalibrationSolver(CalibrationSurrogate(FitMapsOf(false, 0.0), Specimen2D(), Specimen2D()), target, Options(),
+                          &model)
+            .Solve();
+    SCOPED_TRACE(Rounds(s));
+    ASSERT_GE(s.rounds.size(), 2u);
+    EXPECT_TRUE(s.rounds[1].failed);
+    EXPECT_DOUBLE_EQ(s.rounds[1].ratios.shear_to_tensile_strength, s.rounds[0].ratios.shear_to_tensile_strength);
+    EXPECT_EQ(model.diverged_rounds, 1);
+    ExpectNoStepOntoAFailedRound(s);
+    EXPECT_FALSE(s.tensile_honoured);
+    EXPECT_TRUE(s.converged);
+    EXPECT_LE(std::abs(s.rounds[s.best_round].error_ucs), Options().tolerance_ucs);
+  }
+}
+
+// A test that diverges everywhere: every round fails, each at another point (nothing measured
+// corrects the line, so the loop spreads them over the box), the budget is spent and there is
+// no result; the solution says so instead of throwing.
+TEST(CalibrationSolver, WhenEveryRoundDivergesThereIsNoResult) {
+  const TargetMaterial target = Twin(2e10, 5e3, Rigid(0.3, 6.0));
+  FakeModel model(29);
+  model.diverges = [](int, double, const MicroRatios&) { return true; };
+  const CalibrationSolution s =
+      CalibrationSolver(Anchored(false, 0.0, 30), target, Options(), &model).Solve();
+  SCOPED_TRACE(Rounds(s));
+  EXPECT_EQ(s.best_round, -1);
+  EXPECT_FALSE(s.converged);
+  EXPECT_EQ(static_cast<int>(s.rounds.size()), Options().max_strength_rounds);
+  for (const StrengthRound& r : s.rounds) EXPECT_TRUE(r.failed);
+  ExpectNoStepOntoAFailedRound(s);
+  EXPECT_LE(std::abs(s.error_youngs), Options().tolerance_youngs);  // the elastic set stands
+  bool noted = false;
+  for (const std::string& n : s.notes) noted = noted || n.find("no result") != std::string::npos;
+  EXPECT_TRUE(noted);
 }
 
 TEST(CalibrationSolver, BadOptionsAreRefused) {

@@ -12,6 +12,7 @@
 #include "calibrate/calibration.h"
 #include "calibrate/calibration_outputs.h"
 #include "calibrate/intact_elastic.h"
+#include "calibrate/map_sweep.h"
 #include "common/error.h"
 #include "lab/lab_scene_file.h"
 #include "tests/generator/scratch_directory.h"
@@ -150,6 +151,73 @@ TEST(CalibrateToMaterial, RecoversAModelMadeTargetAndReusesItsMaps) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("another packing"), std::string::npos) << e.what();
   }
+}
+
+// A summary whose every strength round failed (a verification run diverged): the report and
+// the files say which test failed, at which parameters and why; the failed rounds' scenes
+// repeat them with run-test; there is no result, so no parameters or scenes of a best round.
+TEST(CalibrateToMaterial, FailedRoundsAreReportedAndWithoutAResultNoParametersAreWritten) {
+  CalibrationSummary summary;
+  summary.target.name = "t";
+  summary.target.youngs_modulus_pa = 2e10;
+  summary.target.poisson_ratio = 0.25;
+  summary.target.ucs_pa = 1e8;
+  summary.target.tensile_strength_pa = 8e6;
+  summary.target.density_kg_per_m3 = 2600;
+  summary.model_used = "ddem";
+  MicroRatios ratios;
+  ratios.tangential_to_normal_stiffness = 0.38;
+  ratios.shear_to_tensile_strength = 7.9;
+  ratios.friction_coefficient = 0.8;
+  ratios.normal_stiffness_to_particle = 0.229;
+  ratios.particle_poisson_ratio = 0.45;
+  const std::string failure =
+      "UCS test: the run diverged at step 184,886 (t = 0.0123 s): a wall reaction became NaN.";
+  for (int round = 1; round <= 2; ++round) {
+    VerificationRound v;
+    v.round = round;
+    v.ratios = ratios;
+    v.material = MaterialAt(ratios, 3e10, 9000.0 * round, 2600.0, PlaneModel::kPlaneStrain, 1.0);
+    v.failed = true;
+    v.failure = failure;
+    summary.rounds.push_back(v);
+  }
+  summary.best_round = 0;  // no result
+  EXPECT_NE(summary.BriefReport().find("no result"), std::string::npos) << summary.BriefReport();
+  const std::string text = summary.FullReport();
+  EXPECT_NE(text.find("round 2 FAILED: Rt/Rn 7.9, Rn 18000 N"), std::string::npos) << text;
+  EXPECT_NE(text.find(failure), std::string::npos) << text;
+  EXPECT_NE(text.find("no result"), std::string::npos) << text;
+
+  const ScratchDirectory scratch;
+  const fs::path out = fs::path(scratch.path()) / "out";
+  CalibrationOutputOptions output;
+  output.directory = out.string();
+  output.name = "cal";
+  output.pictures = false;
+  WriteCalibrationOutputs<2>(summary, Specimens(), CalibrationOptions(), output);
+  nlohmann::json report;
+  std::ifstream(out / "cal_report.json") >> report;
+  EXPECT_EQ(report["best_round"], 0);
+  ASSERT_EQ(report["verification"].size(), 2u);
+  EXPECT_TRUE(report["verification"][1]["failed"].get<bool>());
+  EXPECT_EQ(report["verification"][1]["failure"], failure);
+  EXPECT_TRUE(report["verification"][1]["ucs_pa"].is_null());
+  EXPECT_DOUBLE_EQ(report["verification"][1]["rn"].get<double>(), 18000.0);
+  EXPECT_DOUBLE_EQ(report["verification"][1]["ratios"]["kn_over_ep_l"].get<double>(), 0.229);
+  std::ifstream csv(out / "cal_verification.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  EXPECT_NE(header.find(",failed,failure"), std::string::npos) << header;
+  EXPECT_NE(row.find(",1,\"" + failure + "\""), std::string::npos) << row;  // quoted: it holds a comma
+  const LabScene scene = LoadLabScene((out / "cal_round2_ucs_scene.toml").string());
+  EXPECT_DOUBLE_EQ(scene.material.bond_tensile_strength_n, 18000.0);
+  ASSERT_TRUE(scene.material.particle_youngs_modulus_pa.has_value());
+  EXPECT_DOUBLE_EQ(*scene.material.particle_youngs_modulus_pa, 3e10 / 0.229);
+  EXPECT_TRUE(fs::exists(out / "cal_round1_bts_scene.toml"));
+  EXPECT_FALSE(fs::exists(out / "cal_parameters.toml"));
+  EXPECT_FALSE(fs::exists(out / "cal_ucs_scene.toml"));
 }
 
 TEST(CalibrateToMaterial, InvalidOptionsAndTargetsAreRefusedBeforeAnyWork) {

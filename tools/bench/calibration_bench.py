@@ -176,8 +176,11 @@ def draw_hidden(rng, deformable, bound, dimension):
 # --- Reading a report ---------------------------------------------------------------------
 
 def best_errors(report):
-    v = [r for r in report["verification"] if r["best"]][0]
-    return v["relative_errors"]
+    """Of the best round; NaN when every round failed (no result)."""
+    best = [r for r in report["verification"] if r["best"]]
+    if not best:
+        return {k: float("nan") for k in TOLERANCES}
+    return best[0]["relative_errors"]
 
 
 def met(errors):
@@ -194,7 +197,8 @@ def row_of(label, report):
         "is out of reach on this specimen: round" in n for n in report.get("notes", []))
     return {
         "case": label, "model": report["model"]["used"], "rounds": len(report["verification"]),
-        "best_round": [r["round"] for r in report["verification"] if r["best"]][0],
+        "best_round": report.get("best_round", 0),
+        "failed_rounds": sum(1 for r in report["verification"] if r.get("failed")),
         "elastic_runs": len(report["elastic_runs"]), "error_youngs": e["youngs_modulus"],
         "error_poisson": e["poisson_ratio"], "error_ucs": e["ucs"], "error_tensile": e["tensile_strength"],
         "converged": report["converged"], "given_up": " ".join(report["given_up"]),
@@ -234,6 +238,8 @@ def print_table(title, rows, twin):
                 r["given_up"], r["nu_reach"], r["ratio_reach"], r["target_ratio"])
         else:
             outcome = "**not converged** (given up: %s)" % (r["given_up"] or "-")
+        if r.get("failed_rounds"):
+            outcome += "; %d round(s) failed (a test diverged: see the report)" % r["failed_rounds"]
         emit("| %s | %s | %d (%d) | %d | %+.2f %% | %+.2f %% | %+.2f %% | %+.2f %% | %s | %.0f s |" % (
             r["case"], r["model"], r["rounds"], r["best_round"], r["elastic_runs"], 100 * r["error_youngs"],
             100 * r["error_poisson"], 100 * r["error_ucs"], 100 * r["error_tensile"], outcome, r["seconds"]))
@@ -252,6 +258,8 @@ def write_rounds(path, reports):
         for label, report in reports:
             f.write("# %s\n" % label)
             for v in report["verification"]:
+                if v.get("failed"):
+                    continue  # measured nothing
                 e = v["relative_errors"]
                 f.write("%d,%g,%g,%g,%g,%s\n" % (v["round"], e["youngs_modulus"], e["poisson_ratio"], e["ucs"],
                                                   e["tensile_strength"], label))
@@ -428,7 +436,7 @@ def main():
         print_table("Twin experiments (3D, %d spheres)" % args.count_3d, rows3, True)
         rows += rows3
 
-    fields = ["case", "model", "rounds", "best_round", "elastic_runs", "error_youngs", "error_poisson", "error_ucs",
+    fields = ["case", "model", "rounds", "best_round", "failed_rounds", "elastic_runs", "error_youngs", "error_poisson", "error_ucs",
               "error_tensile", "converged", "given_up", "declared_before_first_round", "nu_reach", "ratio_reach",
               "target_ratio", "transfer_ucs", "transfer_tensile", "first_corrected_ucs", "first_corrected_tensile",
               "seconds", "exit_status"]
