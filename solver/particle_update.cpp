@@ -76,6 +76,23 @@ struct ProductSums<3> {
   }
 };
 
+// v / |v| for the local damping's direction (Madan (2.7)-(2.8)), 0 for v = 0. A velocity
+// decaying towards rest reaches denormal |v|^2, which has lost its digits (and |F|^2/|v|^2
+// overflows there, which once made a spin infinite in one step): below 1e-200, v is rescaled
+// by its largest component first.
+inline double UnitDirection(double v, double /*squared*/) {
+  return v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0);
+}
+template <int Rows>
+inline Eigen::Matrix<double, Rows, 1> UnitDirection(const Eigen::Matrix<double, Rows, 1>& v,
+                                                    double squared) {
+  if (squared > 1e-200) return v / std::sqrt(squared);
+  const double scale = v.cwiseAbs().maxCoeff();
+  if (scale == 0.0) return Eigen::Matrix<double, Rows, 1>::Zero();
+  const Eigen::Matrix<double, Rows, 1> w = v / scale;
+  return w / w.norm();
+}
+
 // The particles the wall and load passes may write to (external_flag), rebuilt after every
 // neighbour search (the walls' candidate lists change only there).
 template <int Dim>
@@ -261,10 +278,8 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
           for (int axis = 0; axis < Dim; ++axis)
             if (constraints.set_of_axis[slot][axis] >= 0) free_velocity[axis] = 0.0;
       }
-      // |F| / |v| with one square root.
-      const double speed_squared = free_velocity.squaredNorm();
-      if (speed_squared > 0.0)
-        damping_force = (-alpha_t * std::sqrt(force.squaredNorm() / speed_squared)) * free_velocity;
+      damping_force = (-alpha_t * force.norm()) *
+                      UnitDirection(free_velocity, free_velocity.squaredNorm());
     }
 
     // 4. Central differences, Madan (2.9)-(2.11).
@@ -306,10 +321,8 @@ void ParticlePass(SceneState<Dim>& s, ParticlePassTotals* totals) {
       } else {
         Angular<Dim> damping_torque = ZeroAngular<Dim>();
         if constexpr (kDamping) {
-          const double spin_squared = AngularDot(w_old, w_old);
-          if (spin_squared > 0.0)
-            damping_torque =
-                (-alpha_r * std::sqrt(AngularDot(torque, torque) / spin_squared)) * w_old;
+          damping_torque = (-alpha_r * AngularNorm(torque)) *
+                           UnitDirection(w_old, AngularDot(w_old, w_old));
         }
         w_new = w_old + (torque + damping_torque) * (dt * inverse_inertia);
         if constexpr (kDamping) damping -= AngularDot(damping_torque, 0.5 * (w_old + w_new)) * dt;

@@ -504,6 +504,8 @@ RunSummary Simulation<Dim>::Run(const RunOptions& options) {
       for (int q = 0; q < p.size() && where.empty(); ++q)
         if (!p.position[q].allFinite() || !p.velocity[q].allFinite())
           where = "the velocity of particle " + std::to_string(s.order.External(q));
+        else if (!AngularIsFinite(p.angular_velocity[q]))
+          where = "the angular velocity of particle " + std::to_string(s.order.External(q));
       for (int c = 0; c < s.contacts.size() && where.empty(); ++c)
         if (!s.contacts.force[c].allFinite())
           where = "the force of contact " + std::to_string(s.order.External(s.contacts.pair[c][0])) +

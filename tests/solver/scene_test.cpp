@@ -224,5 +224,51 @@ TEST(Threads, TrajectoryIndependentOfThreadCount) {
   for (int q = 0; q < packing.size(); ++q) ASSERT_EQ(one[q], two[q]) << "particle " << q;
 }
 
+// Local damping F_d = -alpha |F| v/|v| (Madan (2.7)-(2.8)) at a velocity decaying towards
+// rest: |v|^2 denormal must not overflow |F|^2/|v|^2 (it once made a spin infinite in one
+// step after a UCS peak). The damped torque has the magnitude (1 - alpha) |T| against the spin.
+TEST(LocalDamping, DenormalSpeedsStayFinite) {
+  SceneOptions<2> scene = Minimal();
+  scene.material.translational_damping = 0.7;
+  scene.material.rotational_damping = 0.7;
+  scene.contacts.detect_new_contacts = false;
+  PointLoad<2> load;  // a force at the top of disc 1: a torque about its centre
+  load.particles = {1};
+  load.force_n = Vector<2>(-1e3, 0.0);
+  load.application_direction = Vector<2>(0.0, 1.0);
+  scene.point_loads = {load};
+  FixedDofs<2> held;
+  held.particles = {0, 1};
+  held.fix_translation = {true, true};
+  scene.fixed_dofs = {held};
+  Simulation<2> simulation(SquareLatticePacking(2, 1, 1e-3), scene);
+  simulation.SetAngularVelocity(1, 1e-161);  // |w|^2 = 1e-322, denormal
+  RunOptions run;
+  run.max_steps = 1;
+  simulation.Run(run);
+  const double spin = simulation.particles().angular_velocity[1];
+  ASSERT_TRUE(std::isfinite(spin));
+  const double torque = 1e3 * 1e-3;  // |s x F| = R |F|, positive about z
+  const double inertia = 0.5 * 2000 * 3.14159265358979323846 * 1e-6 * 1e-6;
+  // The spin is positive: damping opposes it with 0.7 |T|.
+  EXPECT_NEAR(spin, 1e-161 + (1.0 - 0.7) * torque * simulation.time_step_s() / inertia,
+              1e-9 * torque * simulation.time_step_s() / inertia);
+
+  // The same for a translation: v = (1, 1) 1e-161 m/s, a free disc under F = (-1e3, 0) N:
+  // dv = (F - 0.7 |F| v/|v|) dt / m.
+  scene.fixed_dofs[0].particles = {0};
+  Simulation<2> free(SquareLatticePacking(2, 1, 1e-3), scene);
+  free.SetVelocity(1, Vector<2>(1e-161, 1e-161));
+  free.Run(run);
+  const Vector<2> v = free.particles().velocity[1];
+  ASSERT_TRUE(v.allFinite());
+  const double mass = 2000 * 3.14159265358979323846 * 1e-6;
+  const Vector<2> expected =
+      (Vector<2>(-1e3, 0.0) - 0.7 * 1e3 * Vector<2>(1.0, 1.0) / std::sqrt(2.0)) *
+      (free.time_step_s() / mass);
+  EXPECT_NEAR(v.x(), expected.x(), 1e-9 * expected.norm());
+  EXPECT_NEAR(v.y(), expected.y(), 1e-9 * expected.norm());
+}
+
 }  // namespace
 }  // namespace specimen
