@@ -75,6 +75,10 @@ std::string StabilitySummary::FullReport() const {
       dimension, particles, links, contact_links, wall_links, rattler_links, degrees_of_freedom,
       fixed_degrees_of_freedom,
       rotation ? ", rotations included" : ", no rotational stiffness (kt = 0)");
+  if (bond_radius_ratio > 0.0)
+    out << Line("  bonds carry moments: radius ratio %.4g, bending (and 3D twisting) springs on "
+                "every contact link\n",
+                bond_radius_ratio);
   if (rattlers_without_neighbour > 0)
     out << Line("  %d particle(s) without links and without a neighbour within the search skin\n",
                 rattlers_without_neighbour);
@@ -169,6 +173,7 @@ nlohmann::json StabilitySummary::ToJson() const {
                 {"rotation", rotation},
                 {"normal_stiffness_n_per_m", normal_stiffness_n_per_m},
                 {"tangential_stiffness_n_per_m", tangential_stiffness_n_per_m},
+                {"bond_radius_ratio", bond_radius_ratio},
                 {"particle_model", particle_model},
                 {"particle_youngs_modulus_pa",
                  deformable ? nlohmann::json(particle_youngs_modulus_pa) : nlohmann::json(nullptr)},

@@ -102,6 +102,28 @@ TEST_F(StabilityLimitCommand, FirstSampleRunWritesTheReportAndJson) {
   EXPECT_TRUE(a["ddem_convergence"]["spectral_radius"].is_null());  // rigid particles
 }
 
+// Bonds with a moment add rotational springs: with kt = 0 they bring the rotations in and
+// can only lower the critical step (Weyl: every link adds a positive semi-definite term).
+TEST_F(StabilityLimitCommand, BondMomentsEnterTheNetwork) {
+  auto critical = [&](const std::string& extra, const std::string& name) {
+    const fs::path dir = FreshDirectory(name);
+    const Result r = StabilityLimit("--packing " + packing_ + " --kn 7e10 --density 2000 " + extra +
+                                    " --output " + dir.string());
+    EXPECT_EQ(r.status, 0) << r.output;
+    const nlohmann::json a = ReadJson(dir / "packing_stability.json")["analysis"];
+    return std::make_pair(a["time_step"]["critical_time_step_s"].get<double>(), r.output);
+  };
+  const auto [without, plain] = critical("", "no_moment");
+  const auto [with, report] = critical("--bond-radius-ratio 1", "moment");
+  EXPECT_NE(report.find("bonds carry moments: radius ratio 1"), std::string::npos) << report;
+  EXPECT_EQ(plain.find("bonds carry moments"), std::string::npos);
+  EXPECT_LE(with, without);
+  const Result bad = StabilityLimit("--packing " + packing_ +
+                                    " --kn 7e10 --density 2000 --bond-radius-ratio 1.5");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find("--bond-radius-ratio"), std::string::npos) << bad.output;
+}
+
 TEST_F(StabilityLimitCommand, SecondSampleRunJudgesADdemStep) {
   const fs::path dir = FreshDirectory("second");
   const Result r = StabilityLimit("--packing " + packing_ +
