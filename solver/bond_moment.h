@@ -36,17 +36,19 @@ namespace specimen {
 // The section and stiffnesses of one moment-carrying bond.
 template <int Dim>
 struct BondSection {
-  double radius_m = 0.0;               // Rb
-  double bending_stiffness = 0.0;      // kb [N m/rad]
-  double twisting_stiffness = 0.0;     // kw [N m/rad], 3D only
-  double tension_lever = 0.0;          // A / (I / Rb) [1/m]: 2D 3/Rb, 3D 4/Rb
-  double shear_lever = 0.0;            // A / (J / Rb) [1/m]: 3D 2/Rb, 2D 0
+  double radius_m = 0.0;            // Rb
+  double bending_stiffness = 0.0;   // kb [N m/rad]
+  double twisting_stiffness = 0.0;  // kw [N m/rad], 3D only
 };
 
 // kb / (kn Rb^2) and kw / (kt Rb^2): I/A and J/A over Rb^2.
 template <int Dim>
 constexpr double kBendingFactor = Dim == 2 ? 1.0 / 3.0 : 0.25;
 constexpr double kTwistingFactor3d = 0.5;
+// Rb A / I and Rb A / J: the levers of the peripheral stresses (tension 3 or 4, shear 2).
+template <int Dim>
+constexpr double kTensionLever = Dim == 2 ? 3.0 : 4.0;
+constexpr double kShearLever3d = 2.0;
 
 template <int Dim>
 inline BondSection<Dim> BondSectionOf(double radius_i, double radius_j, double radius_ratio,
@@ -56,8 +58,6 @@ inline BondSection<Dim> BondSectionOf(double radius_i, double radius_j, double r
   s.radius_m = rb;
   s.bending_stiffness = kBendingFactor<Dim> * kn * rb * rb;
   if constexpr (Dim == 3) s.twisting_stiffness = kTwistingFactor3d * kt * rb * rb;
-  s.tension_lever = (Dim == 2 ? 3.0 : 4.0) / rb;
-  s.shear_lever = Dim == 2 ? 0.0 : 2.0 / rb;
   return s;
 }
 
@@ -90,22 +90,38 @@ inline Vector<3> BondMomentIncrement(const Vector<3>& relative_rotation, const V
   return s.bending_stiffness * (relative_rotation - twist * n) + (s.twisting_stiffness * twist) * n;
 }
 
-// The largest normal stress of the section times A: fn + |Mb| Rb A / I (tension positive).
-template <int Dim>
-inline double PeripheralTension(double fn, const Angular<Dim>& moment, const Vector<Dim>& n,
-                                const BondSection<Dim>& s) {
-  return fn + s.tension_lever * AngularNorm(BendingPart(moment, n));
+// The sizes of a moment's parts: |Mb|^2 and |Mt| (2D: M^2 and 0).
+struct MomentParts {
+  double bending_squared = 0.0;
+  double twisting = 0.0;
+};
+inline MomentParts SplitMoment(double moment, const Vector<2>& /*n*/) { return {moment * moment, 0.0}; }
+inline MomentParts SplitMoment(const Vector<3>& moment, const Vector<3>& n) {
+  const double twist = moment.dot(n);
+  return {std::max(0.0, moment.squaredNorm() - twist * twist), std::abs(twist)};
 }
 
-// The largest shear stress of the section times A: |ft| + |Mt| Rb A / J.
+// Whether the largest normal stress of the section exceeds the strength:
+// fn + |Mb| Rb A / I > Rn, as lever |Mb| > Rb (Rn - fn) (no division, no root: this runs on
+// every bond at every step).
 template <int Dim>
-inline double PeripheralShear(double tangential_force, const Angular<Dim>& moment,
-                              const Vector<Dim>& n, const BondSection<Dim>& s) {
-  if constexpr (Dim == 2) {
-    return tangential_force;
-  } else {
-    return tangential_force + s.shear_lever * std::abs(TwistingPart(moment, n));
-  }
+inline bool ExceedsPeripheralTension(double fn, const MomentParts& m, const BondSection<Dim>& s,
+                                     double rn) {
+  const double room = s.radius_m * (rn - fn);
+  if (!(room > 0.0)) return true;
+  constexpr double lever = kTensionLever<Dim>;
+  return lever * lever * m.bending_squared > room * room;
+}
+
+// Whether the largest shear stress of the section exceeds the strength:
+// |ft| + |Mt| Rb A / J > Rt, as Rb |ft| > Rb Rt - lever |Mt| (2D: |ft| > Rt).
+template <int Dim>
+inline bool ExceedsPeripheralShear(double ft_squared, const MomentParts& m,
+                                   const BondSection<Dim>& s, double rt) {
+  double room = s.radius_m * rt;
+  if constexpr (Dim == 3) room -= kShearLever3d * m.twisting;
+  if (!(room > 0.0)) return true;
+  return s.radius_m * s.radius_m * ft_squared > room * room;
 }
 
 // Elastic energy stored by the moment: |Mb|^2 / (2 kb) + Mt^2 / (2 kw).

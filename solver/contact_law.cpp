@@ -103,26 +103,50 @@ namespace {
 // atan(twist) about n_new, i.e. rotated + twist n x rotated rescaled by 1/sqrt(1 + twist^2),
 // the same vector the earlier "add, then rescale to the old magnitude" gave, without the
 // long divide-and-square-root chain on the force (an out-of-line call plus that chain cost a
-// third of a 3D rigid step). The projection removes the round-off normal component.
+// third of a 3D rigid step). The projection removes the round-off normal component. The
+// factors depend on the normals and spins only, so one object turns both the tangential
+// force and a bond's bending moment (bond_moment.h).
+template <int Dim>
+struct ContactPlaneRotation;
+
+template <>
+struct ContactPlaneRotation<3> {
+  ContactPlaneRotation(const Vector<3>& old_normal, const Vector<3>& new_normal,
+                       double twist_angle)
+      : from(old_normal), to(new_normal) {
+    inverse_one_plus_cosine = 1.0 / (1.0 + old_normal.dot(new_normal));
+    twist_cosine = 1.0 / std::sqrt(1.0 + twist_angle * twist_angle);
+    twist_sine = twist_angle * twist_cosine;
+  }
+  // v in the old contact plane -> the new one.
+  Vector<3> operator()(const Vector<3>& v) const {
+    Vector<3> twisted = Unprojected(v);
+    twisted -= twisted.dot(to) * to;
+    return twisted;
+  }
+  // The same without removing the round-off normal component: for a bond's moment, whose
+  // parts are separated again along the normal at every step.
+  Vector<3> Unprojected(const Vector<3>& v) const {
+    const Vector<3> rotated = v - (from + to) * (to.dot(v) * inverse_one_plus_cosine);
+    return twist_cosine * rotated + twist_sine * to.cross(rotated);
+  }
+  const Vector<3>& from;
+  const Vector<3>& to;
+  double inverse_one_plus_cosine, twist_cosine, twist_sine;
+};
+
+template <>
+struct ContactPlaneRotation<2> {
+  ContactPlaneRotation(const Vector<2>& old_normal, const Vector<2>& new_normal, double /*twist*/)
+      : from(Perpendicular(old_normal)), to(Perpendicular(new_normal)) {}
+  Vector<2> operator()(const Vector<2>& v) const { return v.dot(from) * to; }
+  Vector<2> from, to;
+};
+
 inline Vector<3> RotateTangentialForceInline(const Vector<3>& tangential_force,
                                              const Vector<3>& old_normal,
                                              const Vector<3>& new_normal, double twist_angle) {
-  // Both factors depend on the normals and spins only: off the force's dependency chain.
-  const double inverse_one_plus_cosine = 1.0 / (1.0 + old_normal.dot(new_normal));
-  const double twist_cosine = 1.0 / std::sqrt(1.0 + twist_angle * twist_angle);
-  const double twist_sine = twist_angle * twist_cosine;
-  const Vector<3> rotated =
-      tangential_force -
-      (old_normal + new_normal) * (new_normal.dot(tangential_force) * inverse_one_plus_cosine);
-  Vector<3> twisted = twist_cosine * rotated + twist_sine * new_normal.cross(rotated);
-  twisted -= twisted.dot(new_normal) * new_normal;
-  return twisted;
-}
-
-inline Vector<2> RotateTangentialForceInline(const Vector<2>& tangential_force,
-                                             const Vector<2>& old_normal,
-                                             const Vector<2>& new_normal, double /*twist*/) {
-  return tangential_force.dot(Perpendicular(old_normal)) * Perpendicular(new_normal);
+  return ContactPlaneRotation<3>(old_normal, new_normal, twist_angle)(tangential_force);
 }
 
 }  // namespace
@@ -237,17 +261,19 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
 
     [[maybe_unused]] Vector<Dim> tangential_velocity;
     Vector<Dim> ft = Vector<Dim>::Zero();
+    [[maybe_unused]] double twist = 0.0;
+    if constexpr (Dim == 3 && (kTangential || kMoment))
+      twist = 0.5 * dt * (spins[i] + spins[j]).dot(n);
+    [[maybe_unused]] const ContactPlaneRotation<Dim> turn(normals[k], n, twist);
     if constexpr (kTangential) {
       tangential_velocity = relative_velocity - normal_velocity * n;  // Madan (2.30)
-      double twist = 0.0;
-      if constexpr (Dim == 3) twist = 0.5 * dt * (spins[i] + spins[j]).dot(n);
       // Madan (2.28)-(2.29), Labra (2.20) with the sign of the force on i: the stored force
       // rotated into the current plane plus kt v_rt dt.
-      ft = RotateTangentialForceInline(tangential_forces[k], normals[k], n, twist) +
-           (kt * dt) * tangential_velocity;
+      ft = turn(tangential_forces[k]) + (kt * dt) * tangential_velocity;
     }
 
-    // The moment of a bond (bond_moment.h): the stored one turned with the pair, plus the
+    // The moment of a bond (bond_moment.h): the stored one turned with the pair (its
+    // bending part with the contact plane, its twisting part onto the new normal), plus the
     // stiffness times the relative rotation of the step.
     [[maybe_unused]] Angular<Dim> moment = ZeroAngular<Dim>();
     [[maybe_unused]] BondSection<Dim> section;
@@ -256,12 +282,8 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
         section = BondSectionOf<Dim>(ri, rj, bond_radius_ratio, kn, kt);
         moment = bond_moments[k];
         if constexpr (Dim == 3) {
-          const Vector<3>& old_normal = normals[k];
-          const double twisting = moment.dot(old_normal);
-          const double pair_twist = 0.5 * dt * (spins[i] + spins[j]).dot(n);
-          moment = RotateTangentialForceInline(Vector<3>(moment - twisting * old_normal),
-                                               old_normal, n, pair_twist) +
-                   twisting * n;
+          const double twisting = moment.dot(normals[k]);
+          moment = turn.Unprojected(Vector<3>(moment - twisting * normals[k])) + twisting * n;
         }
         moment += BondMomentIncrement(Angular<Dim>((spins[j] - spins[i]) * dt), n, section);
       }
@@ -274,10 +296,11 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
         // bond with a moment on the peripheral stress of its section (bond_moment.h).
         bool tension = false, shear = false;
         if constexpr (kMoment) {
-          tension = PeripheralTension<Dim>(fn, moment, n, section) > tensile_strength;
-          double ft_norm = 0.0;
-          if constexpr (kTangential) ft_norm = ft.norm();
-          shear = PeripheralShear<Dim>(ft_norm, moment, n, section) > law.shear_strength;
+          const MomentParts parts = SplitMoment(moment, n);
+          tension = ExceedsPeripheralTension<Dim>(fn, parts, section, tensile_strength);
+          double ft_squared = 0.0;
+          if constexpr (kTangential) ft_squared = ft.squaredNorm();
+          shear = ExceedsPeripheralShear<Dim>(ft_squared, parts, section, law.shear_strength);
         } else {
           tension = fn > tensile_strength;
           if constexpr (kTangential) shear = ft.squaredNorm() > shear_strength_squared;

@@ -1,7 +1,7 @@
 // solver-throughput: the speed benchmark of the solver core ("Speed").
 //
 //   solver-throughput --packing bench-out/solver/specimens/sphere3d_30k.packing
-//                     [--model rigid|ddem|both] [--threads 2] [--steps 2000] [--warmup 100]
+//                     [--model rigid|ddem|both|moment] [--threads 2] [--steps 2000] [--warmup 100]
 //
 // Loads a packing written by generate-packing, bonds it (the packing's contact pairs), puts
 // it between two velocity-driven platens across its last axis (y in 2D, z in 3D: the lower
@@ -15,6 +15,8 @@
 // chunks of --chunk steps (the order alternating too), so that both see the same machine:
 // the DDEM overhead (rigid rate / DDEM rate - 1) is then a paired measurement, robust on a
 // busy machine; its median over the chunk pairs is reported next to the ratio of totals.
+// --model moment does the same for rigid particles with and without moment-carrying bonds
+// (--bond-radius-ratio, solver/bond_moment.h): the cost of the bond moments.
 //
 // The scene is the workload of a bonded virtual test, and the one Yade is given in
 // solver_bench.py: linear normal and tangential springs (kt = kt_ratio kn), bonds with a
@@ -37,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "common/format.h"
 #include "generator/packing_io.h"
 #include "solver/simulation.h"
 #include "tools/command_line.h"
@@ -46,11 +49,13 @@ namespace {
 
 struct BenchOptions {
   std::string packing;
-  std::string model = "rigid";  // rigid, ddem or both
+  std::string model = "rigid";  // rigid, ddem, both (rigid and DDEM) or moment (rigid and
+                                // rigid with moment-carrying bonds)
+  double bond_radius_ratio = 1.0;  // lambda of the moment variant
   int threads = 1;
   long steps = 2000;
   long warmup = 100;
-  long chunk = 20;                  // --model both: steps per alternation
+  long chunk = 20;                  // --model both, moment: steps per alternation
   double youngs_modulus_pa = 1e10;  // Ep: sets kn (see the header) in both variants
   double kt_ratio = 0.5;
   double damping = 0.1;
@@ -95,9 +100,17 @@ struct Specimen {
   }
 };
 
+// The variants a run compares.
+enum class Variant { kRigid, kDdem, kMoment };
+
+const char* VariantName(Variant v) {
+  return v == Variant::kRigid ? "rigid" : v == Variant::kDdem ? "ddem" : "moment";
+}
+
 template <int Dim>
-SceneOptions<Dim> BenchScene(const Specimen<Dim>& sp, const BenchOptions& o, bool deformable,
+SceneOptions<Dim> BenchScene(const Specimen<Dim>& sp, const BenchOptions& o, Variant variant,
                              double time_step) {
+  const bool deformable = variant == Variant::kDdem;
   constexpr int kAxis = Dim - 1;
   SceneOptions<Dim> scene;
   MaterialParameters& m = scene.material;
@@ -110,6 +123,7 @@ SceneOptions<Dim> BenchScene(const Specimen<Dim>& sp, const BenchOptions& o, boo
   m.density_kg_per_m3 = 2600;
   m.translational_damping = o.damping;
   m.rotational_damping = o.damping;
+  if (variant == Variant::kMoment) m.bond_radius_ratio = o.bond_radius_ratio;
   if (deformable) {
     m.particle_youngs_modulus_pa = o.youngs_modulus_pa;
     m.particle_poisson_ratio = 0.2;
@@ -133,13 +147,13 @@ SceneOptions<Dim> BenchScene(const Specimen<Dim>& sp, const BenchOptions& o, boo
 // One model's scene, built and warmed up, and what its timed steps measured.
 template <int Dim>
 struct Measured {
-  bool deformable = false;
+  Variant variant = Variant::kRigid;
   std::unique_ptr<Simulation<Dim>> simulation;
   double build_seconds = 0.0;
   double seconds = 0.0;      // sum of RunSummary::wall_seconds of the timed runs
   double cpu_seconds = 0.0;  // process CPU time over the timed runs (all threads)
   long steps = 0;
-  std::vector<double> chunk_seconds;  // --model both: per chunk
+  std::vector<double> chunk_seconds;  // --model both, moment: per chunk
   std::vector<double> step_seconds;   // --step-times
   RunSummary last;
 };
@@ -188,7 +202,7 @@ nlohmann::json Record(const Specimen<Dim>& sp, const BenchOptions& o, const Meas
   r["bonds_intact"] = summary.bonds_intact;
   r["contacts_per_particle"] = static_cast<double>(summary.contacts) / n;
   r["bonds_per_particle"] = static_cast<double>(summary.bonds_created) / n;
-  r["model"] = m.deformable ? "ddem" : "rigid";
+  r["model"] = VariantName(m.variant);
   r["threads"] = o.threads;
   r["steps"] = m.steps;
   r["warmup_steps"] = o.warmup;
@@ -221,7 +235,7 @@ nlohmann::json Record(const Specimen<Dim>& sp, const BenchOptions& o, const Meas
   }
   if (!o.quiet) {
     std::printf("%dD %s, %d particles, %d contacts (%.2f per particle), %d thread(s)\n", Dim,
-                m.deformable ? "DDEM" : "rigid", n, summary.contacts,
+                VariantName(m.variant), n, summary.contacts,
                 static_cast<double>(summary.contacts) / n, o.threads);
     std::printf("  %ld steps in %.3f s (cpu %.3f s): %.3e particle-steps/s, %.0f bytes/particle\n",
                 m.steps, m.seconds, m.cpu_seconds, rate,
@@ -240,7 +254,9 @@ nlohmann::json Record(const Specimen<Dim>& sp, const BenchOptions& o, const Meas
   }
   if (!o.dump.empty()) {
     // Final positions and velocities in the packing's order, full precision (comparisons).
-    const std::string path = o.dump + (o.model == "both" ? (m.deformable ? ".ddem" : ".rigid") : "");
+    const std::string path =
+        o.dump + (o.model == "both" || o.model == "moment" ? std::string(".") + VariantName(m.variant)
+                                                            : std::string());
     std::FILE* file = std::fopen(path.c_str(), "w");
     if (!file) throw FileError("cannot write " + path);
     for (int q = 0; q < n; ++q) {
@@ -260,23 +276,30 @@ int RunBenchmark(const BenchOptions& o) {
   sp.load_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
 
+  std::vector<Variant> variants;
+  if (o.model == "rigid") variants = {Variant::kRigid};
+  if (o.model == "ddem") variants = {Variant::kDdem};
+  if (o.model == "both") variants = {Variant::kRigid, Variant::kDdem};
+  if (o.model == "moment") variants = {Variant::kRigid, Variant::kMoment};
+
   // The time step: DDEM's default (0.7 of the per-particle bound times the strain-lag
-  // factor), given explicitly to both variants so that they take the same steps.
-  double dt = 0.0;
-  {
-    SceneOptions<Dim> probe = BenchScene<Dim>(sp, o, true, 0.0);
+  // factor), or the moment variant's when lower, given explicitly to every variant so that
+  // they take the same steps.
+  double dt = std::numeric_limits<double>::infinity();
+  for (const Variant v : {Variant::kDdem, Variant::kMoment}) {
+    if (v == Variant::kMoment && o.model != "moment") continue;
+    SceneOptions<Dim> probe = BenchScene<Dim>(sp, o, v, 0.0);
     probe.contacts.detect_new_contacts = false;
-    dt = Simulation<Dim>(sp.packing, probe).time_step_s();
+    dt = std::min(dt, Simulation<Dim>(sp.packing, probe).time_step_s());
   }
 
   std::vector<Measured<Dim>> models;
-  for (const bool deformable : {false, true}) {
-    if ((o.model == "rigid" && deformable) || (o.model == "ddem" && !deformable)) continue;
+  for (const Variant variant : variants) {
     Measured<Dim> m;
-    m.deformable = deformable;
+    m.variant = variant;
     const auto build_start = std::chrono::steady_clock::now();
     m.simulation =
-        std::make_unique<Simulation<Dim>>(sp.packing, BenchScene<Dim>(sp, o, deformable, dt));
+        std::make_unique<Simulation<Dim>>(sp.packing, BenchScene<Dim>(sp, o, variant, dt));
     m.build_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
     if (o.warmup > 0) {
@@ -309,12 +332,12 @@ int RunBenchmark(const BenchOptions& o) {
   }
   for (const Measured<Dim>& m : models) {
     nlohmann::json r = Record<Dim>(sp, o, m);
-    if (models.size() == 2 && m.deformable) {
+    if (models.size() == 2 && m.variant != Variant::kRigid) {
       r["paired_overhead_percent"] = paired_overhead;
       r["paired_overhead_median_chunk_percent"] = paired_median;
       if (!o.quiet)
-        std::printf("DDEM overhead, paired: %.1f %% (totals), %.1f %% (median of %zu chunk pairs)\n",
-                    paired_overhead, paired_median, m.chunk_seconds.size());
+        std::printf("%s overhead, paired: %.1f %% (totals), %.1f %% (median of %zu chunk pairs)\n",
+                    VariantName(m.variant), paired_overhead, paired_median, m.chunk_seconds.size());
     }
     std::printf("RESULT %s\n", r.dump().c_str());
   }
@@ -329,13 +352,17 @@ int main(int argc, char** argv) {
   CLI::App app{"solver-throughput: particle-steps per second of a bonded specimen between platens"};
   BenchOptions o;
   app.add_option("--packing", o.packing, "packing file written by generate-packing")->required();
-  app.add_option("--model", o.model, "rigid, ddem or both (alternating chunks, paired overhead)")
-      ->check(CLI::IsMember({"rigid", "ddem", "both"}));
+  app.add_option("--model", o.model,
+                 "rigid, ddem, both (rigid and DDEM) or moment (rigid without and with "
+                 "moment-carrying bonds): alternating chunks, paired overhead")
+      ->check(CLI::IsMember({"rigid", "ddem", "both", "moment"}));
+  app.add_option("--bond-radius-ratio", o.bond_radius_ratio,
+                 "lambda of the moment variant, in (0, 1]");
   app.add_flag_callback("--deformable", [&]() { o.model = "ddem"; }, "same as --model ddem");
   app.add_option("--threads", o.threads, "OpenMP threads of the passes, >= 1");
   app.add_option("--steps", o.steps, "timed steps (per model), >= 1");
   app.add_option("--warmup", o.warmup, "steps run before the timed ones, >= 0");
-  app.add_option("--chunk", o.chunk, "--model both: steps per alternation, >= 1");
+  app.add_option("--chunk", o.chunk, "--model both or moment: steps per alternation, >= 1");
   app.add_option("--youngs-modulus", o.youngs_modulus_pa, "Ep [Pa], sets kn (both variants)");
   app.add_option("--kt-ratio", o.kt_ratio, "kt / kn");
   app.add_option("--damping", o.damping, "local damping alpha_t = alpha_r");
@@ -348,6 +375,9 @@ int main(int argc, char** argv) {
   return RunCommand("solver-throughput", [&]() {
     if (o.threads < 1 || o.steps < 1 || o.warmup < 0 || o.chunk < 1)
       throw InputError("--threads, --steps and --chunk must be >= 1, --warmup >= 0");
+    if (!(o.bond_radius_ratio > 0.0 && o.bond_radius_ratio <= 1.0))
+      throw InputError("--bond-radius-ratio = " + Number(o.bond_radius_ratio) +
+                       " is not allowed: it must be in (0, 1]");
     return ReadPackingDimension(o.packing) == 2 ? RunBenchmark<2>(o) : RunBenchmark<3>(o);
   });
 }
