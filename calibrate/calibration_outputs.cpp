@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "calibrate/map_sweep.h"
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/plot.h"
@@ -38,6 +39,8 @@ void WriteScene(std::ostream& out, const std::string& packing_file, const Materi
       << "\n\n";
   out << MaterialTomlTable(material, dimension) << "\n";
   out << "[test]\nkind = \"" << kind << "\"\n";
+  // As the calibration ran it: a test peaking after run-test's automatic limit would read "no peak".
+  out << "strain_limit = " << Exact(StrengthTestProtocol(test).strain_limit) << "\n";
   out << "loading_rate_group = " << Exact(test.loading_rate_group) << "\n";
   if (test.platen_speed_m_per_s > 0) out << "platen_speed = " << Exact(test.platen_speed_m_per_s) << "\n";
   out << "post_peak_fraction = " << Exact(test.post_peak_stress_fraction) << "\n";

@@ -79,12 +79,9 @@ StrengthMeasurement LabForwardModel<Dim>::MeasureStrength(double kn, double rn, 
   const auto start = std::chrono::steady_clock::now();
   RoundTests tests;
   tests.material = MaterialFor(kn, rn, ratios);
-  LabTestOptions test = settings_.protocol;
-  test.num_threads = 1;
-  test.check_quasi_static = false;
+  LabTestOptions test = StrengthTestProtocol(settings_.protocol);  // as the sweep's
   test.record_snapshots = true;
   test.progress = nullptr;
-  if (test.strain_limit == 0.0) test.strain_limit = 0.05;  // as the sweep (map_sweep.cpp)
   LabTestOptions ucs_test = test, bts_test = test;
   ucs_test.kind = LabTestKind::kUniaxialCompression;
   bts_test.kind = LabTestKind::kBrazilian;

@@ -93,9 +93,6 @@ std::vector<SweepPoint> ReadJournal(const std::string& path, const std::string& 
   return points;
 }
 
-// Strain limit of the sweep's strength tests: soft, compliant corners of a design peak late.
-constexpr double kSweepStrainLimit = 0.05;
-
 template <int Dim>
 PackingDescriptors Describe(const Packing<Dim>& packing) {
   return DescribePacking<Dim>(ComputePackingMetrics<Dim>(packing));
@@ -268,6 +265,13 @@ bool MapSweepOptions::IsValid(std::string* error) const {
   return out.str().empty();
 }
 
+LabTestOptions StrengthTestProtocol(LabTestOptions protocol) {
+  protocol.num_threads = 1;
+  protocol.check_quasi_static = false;
+  if (protocol.strain_limit == 0.0) protocol.strain_limit = 0.05;
+  return protocol;
+}
+
 MaterialParameters MaterialAt(const MicroRatios& r, double kn, double rn, double density,
                               PlaneModel plane_model, double group_length_m) {
   MaterialParameters m;
@@ -344,12 +348,9 @@ MapSweep RunSweepPoints(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts
         MaterialAt(p.ratios, options.normal_stiffness_n_per_m, options.bond_tensile_strength_n,
                    options.density_kg_per_m3, options.plane_model, group_length);
     try {
-      LabTestOptions test = options.test;
-      test.num_threads = 1;
+      LabTestOptions test = StrengthTestProtocol(options.test);
       test.progress = nullptr;
-      test.check_quasi_static = false;
       test.record_snapshots = false;
-      if (test.strain_limit == 0.0) test.strain_limit = kSweepStrainLimit;
       test.kind = LabTestKind::kUniaxialCompression;
       const LabTestResult ucs = RunLabTest<Dim>(ucs_packing, material, test);
       test.kind = LabTestKind::kBrazilian;

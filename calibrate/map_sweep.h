@@ -135,6 +135,11 @@ struct MapSweep {
   double seconds = 0.0;    // wall time of this call
 };
 
+// The protocol of a strength test (UCS or Brazilian) of the sweep and of the calibration's
+// rounds: `protocol` on one solver thread, without the half-rate repeat, its automatic strain
+// limit raised to 0.05 (soft, compliant corners of a design peak late).
+LabTestOptions StrengthTestProtocol(LabTestOptions protocol);
+
 // The material of one test at one point: kn, kt = (kt/kn) kn, Rn, Rt = (Rt/Rn) Rn, mu, rho,
 // Ep = kn / ((kn/(Ep l)) l) when deformable (l = 1 m in 2D, the mean radius in 3D).
 MaterialParameters MaterialAt(const MicroRatios& ratios, double normal_stiffness_n_per_m,

@@ -215,6 +215,8 @@ TEST(CalibrateToMaterial, FailedRoundsAreReportedAndWithoutAResultNoParametersAr
   EXPECT_DOUBLE_EQ(scene.material.bond_tensile_strength_n, 18000.0);
   ASSERT_TRUE(scene.material.particle_youngs_modulus_pa.has_value());
   EXPECT_DOUBLE_EQ(*scene.material.particle_youngs_modulus_pa, 3e10 / 0.229);
+  // The strain limit the rounds ran with (run-test's automatic one is lower).
+  EXPECT_DOUBLE_EQ(scene.test.strain_limit, StrengthTestProtocol(LabTestOptions()).strain_limit);
   EXPECT_TRUE(fs::exists(out / "cal_round1_bts_scene.toml"));
   EXPECT_FALSE(fs::exists(out / "cal_parameters.toml"));
   EXPECT_FALSE(fs::exists(out / "cal_ucs_scene.toml"));
