@@ -94,6 +94,8 @@ struct Simulation<Dim>::StepTotals {
   double mean_force_n = 0.0;
   int loaded_contacts = 0;
   bool finite = true;
+  // Which pass produced a non-finite number (for the divergence message).
+  bool contacts_finite = true, walls_finite = true, particles_finite = true;
 };
 
 // ---------------------------------------------------------------------------------------
@@ -273,6 +275,7 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
       critical_.method += ", limited by the force-driven wall \"" + w.options.name + "\"";
     }
   }
+  double analysed_critical_step_s = 0.0;
   if (options.time_step.from_stability_analysis) {
     // The certified limit of the assembled network (stability_analysis.h): it includes the
     // DDEM strain lag, so no separate lag factor; and the DDEM convergence check.
@@ -298,6 +301,7 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
     critical_.limiting_particle = -1;  // the per-particle bound's; not the analysis' limit
     critical_.method = "stability analysis: " + analysis.critical_time_step_method;
     stability_note_ = analysis.BriefReport();
+    analysed_critical_step_s = analysis.critical_time_step_s;
   }
   if (options.time_step.critical_time_step_s > 0.0) {
     critical_.critical_time_step_s = options.time_step.critical_time_step_s;
@@ -319,6 +323,11 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
          critical_.ddem_lag_factor;
   }
   s.time_step_s = dt;
+  // The analysis judges its own recommended step; a divergence message should quote the
+  // step this run takes.
+  if (analysed_critical_step_s > 0.0)
+    stability_note_ += "; this run's step " + Number(dt) + " s is " +
+                       Number(100.0 * dt / analysed_critical_step_s, 3) + " % of dt_cr";
   s.law.normal_stiffness = material.normal_stiffness_n_per_m;
   s.law.tangential_stiffness = material.tangential_stiffness_n_per_m;
   s.law.tensile_strength = material.bond_tensile_strength_n;
@@ -462,6 +471,9 @@ void Simulation<Dim>::Step(StepTotals* totals) {
                              ? std::sqrt(contact.sum_force_squared_n2 / contact.loaded_contacts)
                              : 0.0;
   totals->finite = contact.finite && wall.finite && particle.finite;
+  totals->contacts_finite = contact.finite;
+  totals->walls_finite = wall.finite;
+  totals->particles_finite = particle.finite;
 }
 
 template <int Dim>
@@ -510,7 +522,12 @@ RunSummary Simulation<Dim>::Run(const RunOptions& options) {
         if (!s.contacts.force[c].allFinite())
           where = "the force of contact " + std::to_string(s.order.External(s.contacts.pair[c][0])) +
                   "-" + std::to_string(s.order.External(s.contacts.pair[c][1]));
-      if (where.empty()) where = "a wall reaction";
+      for (const WallState<Dim>& w : s.walls)
+        if (where.empty() && !t.walls_finite && !w.force_on_wall.allFinite())
+          where = "the reaction of wall \"" + w.options.name + "\"";
+      if (where.empty())
+        where = !t.particles_finite ? "the kinetic energy or the unbalanced force (a sum over the particles)"
+                                    : "a contact or wall force sum";
       Diverged(where + " became NaN or infinite", &summary);
     }
     if (std::abs(s.energy.kinetic_j) > energy_growth_factor_ * supplied)

@@ -401,6 +401,9 @@ TEST(StabilityIntegration, SimulationUsesTheAnalysis) {
     EXPECT_NE(message.find("grew"), std::string::npos) << message;
     EXPECT_NE(message.find("Stability analysis of the scene"), std::string::npos) << message;
     EXPECT_NE(message.find("rho(B) 1.001"), std::string::npos) << message;
+    // The step the run took, against the analysis' dt_cr (the default 0.7 of it).
+    EXPECT_NE(message.find("% of dt_cr"), std::string::npos) << message;
+    EXPECT_NE(message.find(" is 70 % of dt_cr"), std::string::npos) << message;
   }
 }
 
