@@ -28,7 +28,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
+#include "solver/contact_law.h"
 #include "solver/vector_algebra.h"
 
 namespace specimen {
@@ -64,11 +66,14 @@ inline BondSection<Dim> BondSectionOf(double radius_i, double radius_j, double r
 // The largest rotational stiffness a bond between these particles adds to one of them (kb in
 // 2D; max(kb, kw) in 3D): the input of the per-particle time-step bound (time_step.h).
 template <int Dim>
-inline double BondRotationalStiffness(double radius_i, double radius_j, double radius_ratio,
-                                      double kn, double kt) {
-  const BondSection<Dim> s = BondSectionOf<Dim>(radius_i, radius_j, radius_ratio, kn, kt);
-  return std::max(s.bending_stiffness, s.twisting_stiffness);
-}
+double BondRotationalStiffness(double radius_i, double radius_j, double radius_ratio, double kn,
+                               double kt);
+
+// The moment energy of the intact bonds, sum |Mb|^2/(2 kb) + Mt^2/(2 kw) (the energy audit).
+template <int Dim>
+double BondMomentElasticEnergy(const ContactArrays<Dim>& contacts,
+                               const std::vector<double>& radius, double radius_ratio, double kn,
+                               double kt);
 
 // The bending and twisting parts of a moment (2D: all of it bends).
 inline double BendingPart(double moment, const Vector<2>& /*n*/) { return moment; }

@@ -36,15 +36,7 @@ double ContactElasticEnergy(const SceneState<Dim>& s) {
     energy += 0.5 * c.normal_elastic_force[k] * c.normal_elastic_force[k] / kn;
   if (c.has_tangential() && kt > 0.0)
     for (int k = 0; k < c.size(); ++k) energy += 0.5 * c.tangential_force[k].squaredNorm() / kt;
-  if (c.has_bond_moments()) {
-    for (int k = 0; k < c.size(); ++k) {
-      if (c.state[k] != ContactState::kBonded) continue;
-      const auto [i, j] = c.pair[k];
-      const BondSection<Dim> section = BondSectionOf<Dim>(
-          s.particles.radius[i], s.particles.radius[j], s.law.bond_radius_ratio, kn, kt);
-      energy += BondMomentEnergy<Dim>(c.bond_moment[k], c.normal[k], section);
-    }
-  }
+  energy += BondMomentElasticEnergy<Dim>(c, s.particles.radius, s.law.bond_radius_ratio, kn, kt);
   for (const WallState<Dim>& w : s.walls) {
     const double k_wall = w.options.normal_stiffness_n_per_m;
     const double kt_wall = w.options.tangential_stiffness_n_per_m;
