@@ -40,6 +40,36 @@ bool LatticeCalibrationOptions::IsValid(std::string* error) const {
   return test.IsValid(error) && protocol.IsValid(error);
 }
 
+namespace {
+
+constexpr int kMaxFrictionLowerings = 2;
+constexpr double kLowestFrictionAngle = 5.0;  // degrees
+
+// The UCS of the triangles' Mohr-Coulomb limit per unit cohesion, 2 cos(phi) / (1 - sin(phi)).
+double MohrCoulombUcsPerCohesion(double phi_deg) {
+  const double phi = phi_deg * kPi / 180.0;
+  return 2.0 * std::cos(phi) / (1.0 - std::sin(phi));
+}
+
+// The friction angle at which the shear limit lets the Brazilian strength reach the target's.
+// At the centre of a Brazilian disc sigma_1 = -3 sigma_B, sigma_3 = sigma_B, and the
+// Mohr-Coulomb limit sigma_1 = UCS + N sigma_3 (compression positive, N = (1 + sin phi) /
+// (1 - sin phi)) caps UCS / sigma_B at 3 + N. The specimens fail first near the loading
+// strips, so the measured cap lies above 3 + N by a factor (about 1.8 at 30 degrees on the
+// default specimens); that factor is taken as measured at the present angle, and the new angle
+// aims 15 % below the target ratio: N' = (3 + N) (ratio / 1.15) / measured_cap - 3. Between
+// kLowestFrictionAngle and 5 degrees below the present one.
+double LowerFrictionAngle(double phi_deg, double measured_cap_ratio, double target_ratio) {
+  const double phi = phi_deg * kPi / 180.0;
+  const double n = (1.0 + std::sin(phi)) / (1.0 - std::sin(phi));
+  const double wanted = (3.0 + n) * (target_ratio / 1.15) / measured_cap_ratio - 3.0;
+  double lowered = kLowestFrictionAngle;
+  if (wanted > 1.0) lowered = std::asin((wanted - 1.0) / (wanted + 1.0)) * 180.0 / kPi;
+  return std::clamp(lowered, kLowestFrictionAngle, phi_deg - 5.0);
+}
+
+}  // namespace
+
 LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<2>& bts, const TargetMaterial& target,
                                            const LatticeCalibrationOptions& options) {
   std::string error;
@@ -69,22 +99,33 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
                             : IsotropicPlaneElasticity(target.youngs_modulus_pa, target.poisson_ratio,
                                                        PlaneModel::kPlaneStrain);
   material.density_kg_per_m3 = target.density_kg_per_m3;
-  const double phi = summary.friction_angle_deg * kPi / 180.0;
+  // The friction angle is the target's when it gives one; otherwise it is free, and lowered
+  // when the shear limit caps the Brazilian strength below the target's (LowerFrictionAngle).
+  const bool friction_free = !target.friction_angle_deg.has_value();
+  double phi_deg = summary.friction_angle_deg;
   // ln of (c, sigma_t of the triangles): the UCS's closed form and the target's sigma_t.
-  Eigen::Vector2d p(std::log(target.ucs_pa * (1.0 - std::sin(phi)) / (2.0 * std::cos(phi))),
+  Eigen::Vector2d p(std::log(target.ucs_pa / MohrCoulombUcsPerCohesion(phi_deg)),
                     std::log(target.tensile_strength_pa));
   const Eigen::Vector2d goal(std::log(target.ucs_pa), std::log(target.tensile_strength_pa));
   Eigen::Vector2d slopes(1.0, 1.0);  // d ln UCS / d ln c, d ln sigma_t(BTS) / d ln sigma_t
   Eigen::Vector2d previous_p = Eigen::Vector2d::Zero(), previous_m = Eigen::Vector2d::Zero();
   const double tau_c = std::log1p(options.tolerance_ucs), tau_t = std::log1p(options.tolerance_tensile);
+  int first_round_at_phi = 1, lowerings = 0;
+  // The weighted error of a round: the UCS's, and sigma_t's unless it is given up.
+  auto weighted_error = [&](const LatticeCalibrationRound& r) {
+    return std::pow(std::log1p(r.error_ucs) / tau_c, 2) +
+           (summary.tensile_capped ? 0.0 : std::pow(std::log1p(r.error_tensile) / tau_t, 2));
+  };
+  std::vector<LatticeMaterial> round_materials;
 
   for (int round = 1; round <= options.max_rounds; ++round) {
     const auto round_start = std::chrono::steady_clock::now();
-    material.strength = {std::exp(p[1]), std::exp(p[0]), summary.friction_angle_deg};
+    material.strength = {std::exp(p[1]), std::exp(p[0]), phi_deg};
     if (options.progress)
       options.progress(static_cast<double>(round - 1) / options.max_rounds,
                        "lattice round " + std::to_string(round) + ": c " + Format("%.4g", material.strength.cohesion_pa) +
-                           " Pa, sigma_t " + Format("%.4g", material.strength.tensile_strength_pa) + " Pa");
+                           " Pa, sigma_t " + Format("%.4g", material.strength.tensile_strength_pa) + " Pa, phi " +
+                           Format("%.3g", phi_deg) + " degrees");
     LabTestOptions ucs_test = options.test, bts_test = options.test;
     ucs_test.kind = LabTestKind::kUniaxialCompression;
     bts_test.kind = LabTestKind::kBrazilian;
@@ -102,6 +143,7 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
     r.round = round;
     r.cohesion_pa = material.strength.cohesion_pa;
     r.tensile_strength_pa = material.strength.tensile_strength_pa;
+    r.friction_angle_deg = phi_deg;
     r.ucs_pa = u.peak_stress_pa;
     r.bts_pa = b.tensile_strength_pa;
     r.youngs_modulus_pa = u.linear_elastic.youngs_modulus_pa;
@@ -111,10 +153,10 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
     r.error_youngs = r.youngs_modulus_pa / target.youngs_modulus_pa - 1.0;
     r.error_poisson = r.poisson_ratio / target.poisson_ratio - 1.0;
     const Eigen::Vector2d m(std::log(r.ucs_pa), std::log(r.bts_pa));
-    r.weighted_error = std::pow((m[0] - goal[0]) / tau_c, 2) +
-                       (summary.tensile_capped ? 0.0 : std::pow((m[1] - goal[1]) / tau_t, 2));
+    r.weighted_error = weighted_error(r);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - round_start).count();
     summary.rounds.push_back(r);
+    round_materials.push_back(material);
     if (summary.best_round == 0 || r.weighted_error < summary.rounds[summary.best_round - 1].weighted_error) {
       summary.best_round = round;
       summary.material = material;
@@ -123,23 +165,55 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
         (summary.tensile_capped || std::abs(r.error_tensile) <= options.tolerance_tensile))
       break;
     // Each strength is stepped by its own secant in logarithms (the UCS by c, sigma_t by the
-    // triangles' sigma_t): the slope measured between the last two rounds where that strength
-    // moved, clamped to [0.2, 1.5], else 1. A Brazilian strength that no longer follows the
-    // triangles' sigma_t (a rise of 10 % or more moving it less than 1 %) is capped by the
-    // shear limit: sigma_t is then out of the lattice's reach at this friction angle, and kept.
+    // triangles' sigma_t): the slope measured between the last two rounds at this friction
+    // angle where that strength moved, clamped to [0.2, 1.5], else 1. A Brazilian strength
+    // that no longer follows the triangles' sigma_t (a rise of 10 % or more moving it less
+    // than 1 %) is capped by the shear limit at this friction angle.
+    bool capped_now = false;
     for (int k = 0; k < 2; ++k) {
-      if (round > 1 && std::abs(p[k] - previous_p[k]) > 1e-6) {
+      if (round > first_round_at_phi && std::abs(p[k] - previous_p[k]) > 1e-6) {
         const double slope = (m[k] - previous_m[k]) / (p[k] - previous_p[k]);
         if (k == 1 && p[1] - previous_p[1] >= std::log(1.1) && std::abs(m[1] - previous_m[1]) < std::log(1.01) &&
-            !summary.tensile_capped) {
-          summary.tensile_capped = true;
-          summary.notes.push_back("the Brazilian strength stays at " + Format("%.4g", r.bts_pa / 1e6) +
-                                  " MPa as the triangles' sigma_t rises: the shear limit (c, phi) caps it, and " +
-                                  Format("%.4g", target.tensile_strength_pa / 1e6) +
-                                  " MPa is out of reach at this friction angle; sigma_t is given up");
-        }
+            !summary.tensile_capped)
+          capped_now = true;
         slopes[k] = std::clamp(slope, 0.2, 1.5);
       }
+    }
+    if (capped_now && friction_free && lowerings < kMaxFrictionLowerings && phi_deg > kLowestFrictionAngle + 0.5) {
+      // A lower friction angle lowers the cap relative to the UCS (LowerFrictionAngle); c
+      // follows from the UCS at the new angle, with this specimen's ratio of the measured UCS
+      // to the closed form carried over. Later rounds judge sigma_t as before.
+      const double new_phi = LowerFrictionAngle(phi_deg, r.ucs_pa / r.bts_pa, target.StrengthRatio());
+      const double specimen_factor = r.ucs_pa / (r.cohesion_pa * MohrCoulombUcsPerCohesion(phi_deg));
+      summary.notes.push_back(
+          "round " + std::to_string(round) + ": the Brazilian strength stays at " + Format("%.4g", r.bts_pa / 1e6) +
+          " MPa as the triangles' sigma_t rises (UCS / sigma_t at least " + Format("%.3g", r.ucs_pa / r.bts_pa) +
+          " at phi " + Format("%.3g", phi_deg) + " degrees, " + Format("%.3g", target.StrengthRatio()) +
+          " sought): the shear limit caps it, so the friction angle is lowered to " + Format("%.3g", new_phi) +
+          " degrees (the target gives none)");
+      phi_deg = new_phi;
+      ++lowerings;
+      p[0] = std::log(target.ucs_pa / (specimen_factor * MohrCoulombUcsPerCohesion(phi_deg)));
+      slopes = Eigen::Vector2d(1.0, 1.0);
+      first_round_at_phi = round + 1;
+      continue;
+    }
+    if (capped_now) {
+      summary.tensile_capped = true;
+      summary.notes.push_back("the Brazilian strength stays at " + Format("%.4g", r.bts_pa / 1e6) +
+                              " MPa as the triangles' sigma_t rises: the shear limit (c, phi) caps it, and " +
+                              Format("%.4g", target.tensile_strength_pa / 1e6) + " MPa is out of reach at " +
+                              (friction_free ? "the lowest friction angle tried, " + Format("%.3g", phi_deg) +
+                                                   " degrees"
+                                             : "the target's friction angle") +
+                              "; sigma_t is given up");
+      // The UCS alone is judged from now on: re-rank every round.
+      for (LatticeCalibrationRound& k : summary.rounds) k.weighted_error = weighted_error(k);
+      for (const LatticeCalibrationRound& k : summary.rounds)
+        if (k.weighted_error < summary.rounds[summary.best_round - 1].weighted_error) {
+          summary.best_round = k.round;
+          summary.material = round_materials[k.round - 1];
+        }
     }
     if (summary.tensile_capped && std::abs(r.error_ucs) <= options.tolerance_ucs) break;  // the UCS alone is left
     previous_p = p;
@@ -149,6 +223,7 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
       p[k] += std::clamp((goal[k] - m[k]) / slopes[k], -std::log(3.0), std::log(3.0));
     }
   }
+  summary.friction_angle_deg = summary.material.strength.friction_angle_deg;
   const LatticeCalibrationRound& best = summary.rounds[summary.best_round - 1];
   summary.converged = std::abs(best.error_ucs) <= options.tolerance_ucs &&
                       (summary.tensile_capped || std::abs(best.error_tensile) <= options.tolerance_tensile) &&
@@ -198,12 +273,14 @@ std::string LatticeCalibrationSummary::FullReport() const {
   }
   out << "  specimens: UCS " << ucs_particles << " particles, Brazilian " << bts_particles << "\n"
       << "  E and nu are the lattice's inputs; the rounds fit the triangles' cohesion and tensile strength"
-      << " (friction angle " << friction_angle_deg << " degrees)\n";
+      << " (friction angle of the result " << friction_angle_deg << " degrees, "
+      << (target.friction_angle_deg ? "the target's" : "free: 30 unless the shear limit caps sigma_t") << ")\n";
   for (const LatticeCalibrationRound& r : rounds) {
     std::snprintf(line, sizeof line,
-                  "  round %d%s: c %.4g MPa, sigma_t %.4g MPa: UCS %.4g MPa (%+.2f %%), sigma_t %.4g MPa (%+.2f %%); "
-                  "E %+.2f %%, nu %+.2f %%; %.0f s\n",
+                  "  round %d%s: c %.4g MPa, sigma_t %.4g MPa, phi %.3g: UCS %.4g MPa (%+.2f %%), sigma_t %.4g MPa "
+                  "(%+.2f %%); E %+.2f %%, nu %+.2f %%; %.0f s\n",
                   r.round, r.round == best_round ? " (best)" : "", r.cohesion_pa / 1e6, r.tensile_strength_pa / 1e6,
+                  r.friction_angle_deg,
                   r.ucs_pa / 1e6, 100 * r.error_ucs, r.bts_pa / 1e6, 100 * r.error_tensile, 100 * r.error_youngs,
                   100 * r.error_poisson, r.seconds);
     out << line;
@@ -240,6 +317,7 @@ nlohmann::json LatticeCalibrationSummary::ToJson() const {
   j["specimens"] = {{"ucs_particles", ucs_particles}, {"bts_particles", bts_particles}};
   for (const LatticeCalibrationRound& r : rounds)
     j["rounds"].push_back({{"round", r.round}, {"cohesion_pa", r.cohesion_pa},
+                           {"friction_angle_deg", r.friction_angle_deg},
                            {"tensile_strength_pa", r.tensile_strength_pa}, {"ucs_pa", r.ucs_pa}, {"bts_pa", r.bts_pa},
                            {"youngs_modulus_pa", r.youngs_modulus_pa}, {"poisson_ratio", r.poisson_ratio},
                            {"relative_errors",

@@ -3,15 +3,17 @@
 // target E, nu, UCS and tensile strength. The elastic constants need no calibration: D is the
 // plane-strain matrix of the target's E and nu, which the lattice reproduces exactly (the
 // linear portion of each round's UCS confirms it). The two strengths of the triangles, the
-// cohesion c and the tensile strength sigma_t (phi: the target's friction angle, else 30
-// degrees), are found by rounds of UCS and Brazilian tests on the real specimens:
+// cohesion c and the tensile strength sigma_t (phi: the target's friction angle, else free,
+// from 30 degrees), are found by rounds of UCS and Brazilian tests on the real specimens:
 //   - start: c from the triangles' own Mohr-Coulomb UCS, 2 c cos(phi) / (1 - sin(phi)) = UCS,
 //     and sigma_t = the target's;
 //   - each round measures the UCS and the Brazilian sigma_t; each strength of the triangles is
 //     stepped by its own secant in logarithms (c for the UCS, sigma_t for the Brazilian; the
 //     slope 1 at first, then measured, clamped to [0.2, 1.5]), at most a factor 3 per step;
 //   - a Brazilian strength that stops following the triangles' sigma_t is capped by their
-//     shear limit: sigma_t is then out of reach at this friction angle, said so, and given up;
+//     shear limit. With a free friction angle it is lowered (at most twice, to 5 degrees at
+//     the least; LowerFrictionAngle in the .cpp) and c follows; with the target's angle, or at
+//     the lowest, sigma_t is out of reach, said so, and given up;
 //   - stop when UCS and sigma_t are within their tolerances; the result is the best round.
 // No maps: a round is two short tests of an elastic-brittle lattice.
 //
@@ -45,6 +47,7 @@ struct LatticeCalibrationOptions {
 struct LatticeCalibrationRound {
   int round = 0;
   double cohesion_pa = 0.0, tensile_strength_pa = 0.0;  // of the triangles
+  double friction_angle_deg = 0.0;                      // of the triangles
   double ucs_pa = 0.0, bts_pa = 0.0;                    // measured
   double youngs_modulus_pa = 0.0, poisson_ratio = 0.0;  // linear portion of the UCS
   double error_ucs = 0.0, error_tensile = 0.0, error_youngs = 0.0, error_poisson = 0.0;
@@ -55,7 +58,7 @@ struct LatticeCalibrationRound {
 struct LatticeCalibrationSummary {
   TargetMaterial target;
   LatticeMaterial material;  // the best round's
-  double friction_angle_deg = 30.0;
+  double friction_angle_deg = 30.0;  // of the result (the best round)
   std::vector<LatticeCalibrationRound> rounds;
   int best_round = 0;        // 1-based
   bool converged = false;    // UCS and sigma_t (unless given up) within tolerance, E, nu confirmed

@@ -61,6 +61,43 @@ TEST(LatticeCalibration, FindsTheHiddenStrengthsOfATwin) {
   EXPECT_EQ(s.ToJson()["rounds"].size(), s.rounds.size());
 }
 
+// A twin whose triangles have a friction angle of 10 degrees: its UCS / sigma_t lies below what
+// the shear limit lets the Brazilian test reach at 30 degrees. Without a friction angle in the
+// target, the calibration lowers it when the cap shows and meets both strengths; with the
+// target's 30 degrees it gives sigma_t up, as before.
+TEST(LatticeCalibration, AFreeFrictionAngleIsLoweredWhenTheShearLimitCapsSigmaT) {
+  const Packing<2> ucs = Generated(Domain<2>::Rectangle(0.0, 0.0, 0.02, 0.02));
+  const Packing<2> bts = Generated(Domain<2>::Disc(Vector<2>(0.01, 0.01), 0.01));
+  LatticeMaterial hidden;
+  hidden.elasticity = IsotropicPlaneElasticity(35e9, 0.3, PlaneModel::kPlaneStrain);
+  hidden.density_kg_per_m3 = 2600.0;
+  hidden.strength = {9e6, 22e6, 10.0};  // sigma_t, c, phi
+  TargetMaterial target;
+  ASSERT_TRUE(MeasureTwin(ucs, bts, hidden, &target));
+  target.name = "lattice twin, phi 10";
+  target.youngs_modulus_pa = 35e9;
+  target.poisson_ratio = 0.3;
+  target.density_kg_per_m3 = 2600.0;
+
+  LatticeCalibrationOptions options;
+  options.max_rounds = 8;
+  const LatticeCalibrationSummary s = CalibrateLattice(ucs, bts, target, options);
+  SCOPED_TRACE(s.FullReport());
+  EXPECT_TRUE(s.converged);
+  EXPECT_FALSE(s.tensile_capped);
+  EXPECT_LE(s.rounds.size(), 6u);
+  EXPECT_LT(s.friction_angle_deg, 30.0);
+  bool lowered = false;
+  for (const std::string& note : s.notes) lowered = lowered || note.find("friction angle is lowered") != std::string::npos;
+  EXPECT_TRUE(lowered);
+
+  target.friction_angle_deg = 30.0;
+  options.max_rounds = 4;  // the cap shows in round 3
+  const LatticeCalibrationSummary fixed = CalibrateLattice(ucs, bts, target, options);
+  EXPECT_TRUE(fixed.tensile_capped) << fixed.FullReport();
+  EXPECT_EQ(fixed.friction_angle_deg, 30.0);
+}
+
 // An orthotropic twin (axis 1 at 30 degrees): D is set from the target's constants in closed
 // form; the UCS's linear portion confirms the apparent E and nu along y that the material file
 // reader derives, and the rounds meet the strengths.
