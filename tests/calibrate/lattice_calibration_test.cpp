@@ -33,21 +33,30 @@ bool MeasureTwin(const Packing<2>& ucs, const Packing<2>& bts, const LatticeMate
   return u.peak_reached && b.peak_reached;
 }
 
-TEST(LatticeCalibration, FindsTheHiddenStrengthsOfATwin) {
-  const Packing<2> ucs = Generated(Domain<2>::Rectangle(0.0, 0.0, 0.02, 0.02));
-  const Packing<2> bts = Generated(Domain<2>::Disc(Vector<2>(0.01, 0.01), 0.01));
-  LatticeMaterial hidden;
-  hidden.elasticity = IsotropicPlaneElasticity(35e9, 0.3, PlaneModel::kPlaneStrain);
-  hidden.density_kg_per_m3 = 2600.0;
-  hidden.strength = {7e6, 22e6, 30.0};
+// An isotropic twin (E 35 GPa, nu 0.3) of the hidden triangle strengths (sigma_t, c, phi) on
+// the two small specimens: false when a test reaches no peak.
+struct IsotropicTwin {
+  Packing<2> ucs = Generated(Domain<2>::Rectangle(0.0, 0.0, 0.02, 0.02));
+  Packing<2> bts = Generated(Domain<2>::Disc(Vector<2>(0.01, 0.01), 0.01));
   TargetMaterial target;
-  ASSERT_TRUE(MeasureTwin(ucs, bts, hidden, &target));
-  target.name = "lattice twin";
-  target.youngs_modulus_pa = 35e9;
-  target.poisson_ratio = 0.3;
-  target.density_kg_per_m3 = 2600.0;
+  bool Make(const LatticeStrength& strength, const std::string& name) {
+    LatticeMaterial hidden;
+    hidden.elasticity = IsotropicPlaneElasticity(35e9, 0.3, PlaneModel::kPlaneStrain);
+    hidden.density_kg_per_m3 = 2600.0;
+    hidden.strength = strength;
+    target.name = name;
+    target.youngs_modulus_pa = 35e9;
+    target.poisson_ratio = 0.3;
+    target.density_kg_per_m3 = 2600.0;
+    return MeasureTwin(ucs, bts, hidden, &target);
+  }
+};
 
-  const LatticeCalibrationSummary s = CalibrateLattice(ucs, bts, target, LatticeCalibrationOptions{});
+TEST(LatticeCalibration, FindsTheHiddenStrengthsOfATwin) {
+  IsotropicTwin twin;
+  ASSERT_TRUE(twin.Make({7e6, 22e6, 30.0}, "lattice twin"));
+  const LatticeCalibrationSummary s =
+      CalibrateLattice(twin.ucs, twin.bts, twin.target, LatticeCalibrationOptions{});
   SCOPED_TRACE(s.FullReport());
   EXPECT_TRUE(s.converged);
   EXPECT_LE(s.rounds.size(), 4u);
@@ -66,22 +75,12 @@ TEST(LatticeCalibration, FindsTheHiddenStrengthsOfATwin) {
 // target, the calibration lowers it when the cap shows and meets both strengths; with the
 // target's 30 degrees it gives sigma_t up, as before.
 TEST(LatticeCalibration, AFreeFrictionAngleIsLoweredWhenTheShearLimitCapsSigmaT) {
-  const Packing<2> ucs = Generated(Domain<2>::Rectangle(0.0, 0.0, 0.02, 0.02));
-  const Packing<2> bts = Generated(Domain<2>::Disc(Vector<2>(0.01, 0.01), 0.01));
-  LatticeMaterial hidden;
-  hidden.elasticity = IsotropicPlaneElasticity(35e9, 0.3, PlaneModel::kPlaneStrain);
-  hidden.density_kg_per_m3 = 2600.0;
-  hidden.strength = {9e6, 22e6, 10.0};  // sigma_t, c, phi
-  TargetMaterial target;
-  ASSERT_TRUE(MeasureTwin(ucs, bts, hidden, &target));
-  target.name = "lattice twin, phi 10";
-  target.youngs_modulus_pa = 35e9;
-  target.poisson_ratio = 0.3;
-  target.density_kg_per_m3 = 2600.0;
-
+  IsotropicTwin twin;
+  ASSERT_TRUE(twin.Make({9e6, 22e6, 10.0}, "lattice twin, phi 10"));  // sigma_t, c, phi
+  TargetMaterial& target = twin.target;
   LatticeCalibrationOptions options;
   options.max_rounds = 8;
-  const LatticeCalibrationSummary s = CalibrateLattice(ucs, bts, target, options);
+  const LatticeCalibrationSummary s = CalibrateLattice(twin.ucs, twin.bts, target, options);
   SCOPED_TRACE(s.FullReport());
   EXPECT_TRUE(s.converged);
   EXPECT_FALSE(s.tensile_capped);
@@ -93,7 +92,7 @@ TEST(LatticeCalibration, AFreeFrictionAngleIsLoweredWhenTheShearLimitCapsSigmaT)
 
   target.friction_angle_deg = 30.0;
   options.max_rounds = 4;  // the cap shows in round 3
-  const LatticeCalibrationSummary fixed = CalibrateLattice(ucs, bts, target, options);
+  const LatticeCalibrationSummary fixed = CalibrateLattice(twin.ucs, twin.bts, target, options);
   EXPECT_TRUE(fixed.tensile_capped) << fixed.FullReport();
   EXPECT_EQ(fixed.friction_angle_deg, 30.0);
 }

@@ -1,0 +1,384 @@
+#!/usr/bin/env python3
+"""The reach map: which (nu, UCS / sigma_t) each model reaches on the calibrator's default 2D
+specimens, measured by real tests; prints the table, writes CSV, JSON and a picture.
+
+  tools/bench/reach_map.py [--build build] [--out bench-out/reach] [--packings UCS BTS]
+        [--models rigid,moment,ddem,lattice] [--markdown PATH] [--picture PATH] [--quick]
+
+The specimens: the calibrator's own 5,064-disc UCS square and 3,940-disc Brazilian disc
+(--packings, or bench-out/calibration/reference/ when the calibration bench made them, or
+made here by a one-round calibration of the bundled Labra rock). At every point of a grid
+over each model's micro parameters, run-test runs what the calibrator runs: the elastic run
+(bonds unbreakable, E and nu of the intact specimen, plane strain), the UCS and the
+Brazilian test; the point's (nu, UCS / sigma_t) goes into the map. The grids:
+
+  rigid    contact bonds (Labra's law): kt/kn 0.1, 0.2, 0.4, 0.9 x Rt/Rn 0.25, 1, 3.16, 10, 30
+  moment   bonds with a moment (bond_radius_ratio 1, a parallel bond): kt/kn 0.1, 0.2, 0.4,
+           0.9 x Rt/Rn 0.5, 1, 3.16, 10
+  ddem     deformable particles, nu_p 0.45, kn/(Ep l) at 0.85 of the admissible bound of both
+           specimens (rho(B) <= 0.9): kt/kn 0.05, 0.15, 0.3, 0.6 x Rt/Rn 1, 3.16, 10
+  lattice  the six-spring lattice, nu 0.05, 0.15, 0.25, 0.35, 0.45 x friction angle 10, 30,
+           50 degrees x triangle sigma_t / c 0.05, 0.2, 2 (E and nu are inputs)
+
+A model's region is, at each of its elastic sets (one nu), the interval of the ratio over its
+strength parameters. The map is measured, not taken from the calibration maps: the map
+specimens (0.3 of the particles) transfer the ratio poorly (at kt/kn 0.3, Rt/Rn 0.25 they
+give 6.9 where the default specimen gives 11.2). The issue's target rectangle (nu 0.05-0.40,
+ratio 4-25) and the published rocks of data/materials/published/ are drawn on it.
+"""
+import argparse
+import glob
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, HERE)
+import calibration_bench as cb  # noqa: E402  (run_test, summary, calibrate, fresh_maps)
+
+KN, RN, DENSITY = 3e10, 1e4, 2600.0
+TARGET_NU, TARGET_RATIO = (0.05, 0.40), (4.0, 25.0)
+MODELS = {
+    "rigid": "rigid, contact bonds",
+    "moment": "rigid, bonds with a moment (lambda 1)",
+    "ddem": "DDEM (nu_p 0.45)",
+    "lattice": "six-spring lattice",
+}
+
+
+def bonded_scene(packing, kind, material, name, elastic):
+    lines = ["[specimen]", 'packing = "%s"' % packing, "scale_density = true", "", "[material]"]
+    lines += ["%s = %r" % (k, v) for k, v in material.items()]
+    lines += ["", "[test]", 'kind = "%s"' % kind, "threads = 1"]
+    lines += ["strain_limit = 1.5e-3", "sample_interval = 50"] if elastic else ["strain_limit = 0.05"]
+    lines += ["", "[output]", 'name = "%s"' % name, "pictures = false", "snapshots = false", ""]
+    return "\n".join(lines)
+
+
+def lattice_scene(packing, kind, material, name):
+    lines = ["[specimen]", 'packing = "%s"' % packing, "", "[material]", 'model = "lattice"',
+             'plane_model = "plane_strain"']
+    lines += ["%s = %r" % (k, v) for k, v in material.items()]
+    lines += ["", "[test]", 'kind = "%s"' % kind, "threads = 1", "", "[output]", 'name = "%s"' % name,
+              "pictures = false", "snapshots = false", ""]
+    return "\n".join(lines)
+
+
+def launch(build, text, directory, name):
+    os.makedirs(directory, exist_ok=True)
+    return cb.run_test(build, text, directory, name)
+
+
+def finish(process, directory, name, allowed=(0,)):
+    status = process.wait()
+    path = os.path.join(directory, name + "_summary.json")
+    if status not in allowed or not os.path.exists(path):
+        return None, "exit %d: %s" % (status, process.stderr.read().strip().splitlines()[-1:] or "")
+    return cb.summary(directory, name), None
+
+
+def strength_pair(build, packings, material, directory, tag, scene=bonded_scene):
+    """UCS and Brazilian strength at one point, the two tests at once."""
+    if scene is bonded_scene:
+        u = launch(build, bonded_scene(packings[0], "ucs", material, "ucs_" + tag, False), directory, "ucs_" + tag)
+        b = launch(build, bonded_scene(packings[1], "brazilian", material, "bts_" + tag, False), directory, "bts_" + tag)
+    else:
+        u = launch(build, lattice_scene(packings[0], "ucs", material, "ucs_" + tag), directory, "ucs_" + tag)
+        b = launch(build, lattice_scene(packings[1], "brazilian", material, "bts_" + tag), directory, "bts_" + tag)
+    ru, eu = finish(u, directory, "ucs_" + tag)
+    rb, eb = finish(b, directory, "bts_" + tag)
+    if eu or eb:
+        return None, "UCS %s, Brazilian %s" % (eu or "ok", eb or "ok")
+    return (ru["peak_stress_pa"], rb["tensile_strength_pa"]), None
+
+
+def elastic_nu(build, packing, material, directory, tag):
+    """nu (plane strain) of the intact specimen: the elastic run, bonds unbreakable."""
+    e = launch(build, bonded_scene(packing, "ucs", material, "elastic_" + tag, True), directory, "elastic_" + tag)
+    # An elastic run has no peak by design: run-test says so with status 4.
+    r, error = finish(e, directory, "elastic_" + tag, allowed=(0, 4))
+    if error:
+        raise RuntimeError("elastic run %s failed: %s" % (tag, error))
+    return r["linear_elastic"]["poisson_ratio"]
+
+
+def admissible_compliance(build, packings, nu_p, directory):
+    """kn/(Ep l) at rho(B) = 0.9 on both specimens (stability-limit), the lower of the two."""
+    bounds = []
+    for k, packing in enumerate(packings):
+        out = os.path.join(directory, "stability_%d" % k)
+        result = cb.run([os.path.join(build, "tools", "stability-limit"), "--packing", packing, "--kn", str(KN),
+                         "--density", str(DENSITY), "--Ep", str(KN / 0.1), "--nu-p", str(nu_p), "--max-rho", "0.9",
+                         "--output", out, "--quiet"])
+        if result.returncode != 0:
+            raise RuntimeError("stability-limit failed: " + result.stdout[-500:] + result.stderr[-500:])
+        with open(os.path.join(out, "packing_stability.json")) as f:
+            bounds.append(json.load(f)["analysis"]["ddem_convergence"]["recommended_kn_over_ep"])
+    return min(bounds)
+
+
+def ends(values, quick):
+    """The grid, or in a smoke test (--quick) its two ends."""
+    return (values[0], values[-1]) if quick else values
+
+
+def measure(build, packings, models, out, quick=False):
+    """Every point of every model's grid: rows of (model, elastic set, strength set, nu, ratio)."""
+    rows = []
+    runs = os.path.join(out, "runs")
+
+    def record(row, measured, start):
+        strengths, error = measured
+        row["seconds"] = time.monotonic() - start
+        if strengths:
+            row.update(ucs_pa=strengths[0], tensile_strength_pa=strengths[1],
+                       strength_ratio=strengths[0] / strengths[1])
+        else:
+            row["failure"] = error
+        rows.append(row)
+        report(row)
+
+    def bonded(model, stiffness_ratios, strength_ratios, extra):
+        for s in ends(stiffness_ratios, quick):
+            base = {"normal_stiffness": KN, "tangential_stiffness": s * KN, "friction_coefficient": 0.8,
+                    "density": DENSITY}
+            base.update(extra)
+            tag = "%s_s%g" % (model, s)
+            nu = elastic_nu(build, packings[0], base, runs, tag)
+            for x in ends(strength_ratios, quick):
+                start = time.monotonic()
+                m = dict(base, bond_tensile_strength=RN, bond_shear_strength=x * RN)
+                record({"model": model, "kt_over_kn": s, "rt_over_rn": x, "poisson_ratio": nu},
+                       strength_pair(build, packings, m, runs, "%s_x%g" % (tag, x)), start)
+
+    if "rigid" in models:
+        bonded("rigid", (0.1, 0.2, 0.4, 0.9), (0.25, 1.0, 3.16, 10.0, 30.0), {})
+    if "moment" in models:
+        bonded("moment", (0.1, 0.2, 0.4, 0.9), (0.5, 1.0, 3.16, 10.0), {"bond_radius_ratio": 1.0})
+    if "ddem" in models:
+        compliance = 0.85 * admissible_compliance(build, packings, 0.45, runs)
+        extra = {"particle_youngs_modulus": KN / compliance, "particle_poisson_ratio": 0.45}
+        for s in ends((0.05, 0.15, 0.3, 0.6), quick):
+            bonded("ddem", (s,), (1.0, 3.16, 10.0), dict(extra))
+        for r in rows:
+            if r["model"] == "ddem":
+                r["kn_over_ep_l"] = compliance
+    if "lattice" in models:
+        cohesion = 30e6
+        for nu in ends((0.05, 0.15, 0.25, 0.35, 0.45), quick):
+            for phi in ends((10.0, 30.0, 50.0), quick):
+                for share in ends((0.05, 0.2, 2.0), quick):
+                    start = time.monotonic()
+                    m = {"youngs_modulus": 40e9, "poisson_ratio": nu, "tensile_strength": share * cohesion,
+                         "cohesion": cohesion, "friction_angle": phi, "density": DENSITY}
+                    tag = "lattice_nu%g_phi%g_t%g" % (nu, phi, share)
+                    record({"model": "lattice", "poisson_ratio": nu, "friction_angle_deg": phi,
+                            "tensile_over_cohesion": share},
+                           strength_pair(build, packings, m, runs, tag, scene=lattice_scene), start)
+    return rows
+
+
+def report(row):
+    ratio = row.get("strength_ratio")
+    print("  %-8s nu %.3f  ratio %s  (%s)  %.0f s" % (
+        row["model"], row["poisson_ratio"], "%.2f" % ratio if ratio else "-",
+        ", ".join("%s %g" % (k, row[k]) for k in ("kt_over_kn", "rt_over_rn", "friction_angle_deg",
+                                                  "tensile_over_cohesion") if k in row),
+        row["seconds"]), flush=True)
+
+
+def regions(rows):
+    """Per model and elastic set (one nu): the interval of the ratio over the strength axis."""
+    out = {}
+    for r in rows:
+        if "strength_ratio" not in r:
+            continue
+        key = (r["model"], round(r["poisson_ratio"], 4))
+        lo, hi = out.get(key, (math.inf, -math.inf))
+        out[key] = (min(lo, r["strength_ratio"]), max(hi, r["strength_ratio"]))
+    table = {}
+    for (model, nu), (lo, hi) in sorted(out.items()):
+        table.setdefault(model, []).append({"poisson_ratio": nu, "ratio_min": lo, "ratio_max": hi})
+    return table
+
+
+def covers(table, nu, ratio):
+    """The models whose region holds (nu, ratio): between two elastic sets, the intervals
+    interpolated linearly in nu (log of the ratio); outside the sets' nu, nothing."""
+    inside = []
+    for model, sets in table.items():
+        sets = sorted(sets, key=lambda s: s["poisson_ratio"])
+        for a, b in zip(sets, sets[1:] if len(sets) > 1 else sets):
+            lo_nu, hi_nu = a["poisson_ratio"], b["poisson_ratio"]
+            if not lo_nu <= nu <= hi_nu:
+                continue
+            t = 0.0 if hi_nu == lo_nu else (nu - lo_nu) / (hi_nu - lo_nu)
+            low = math.exp((1 - t) * math.log(a["ratio_min"]) + t * math.log(b["ratio_min"]))
+            high = math.exp((1 - t) * math.log(a["ratio_max"]) + t * math.log(b["ratio_max"]))
+            if low <= ratio <= high:
+                inside.append(model)
+                break
+    return inside
+
+
+def published_rocks():
+    rocks = []
+    for path in sorted(glob.glob(os.path.join(ROOT, "data", "materials", "published", "*.toml"))):
+        values = {}
+        with open(path) as f:
+            for line in f:
+                line = line.split("#")[0].strip()
+                if "=" in line:
+                    k, v = (p.strip() for p in line.split("=", 1))
+                    values[k] = v.strip('"')
+        try:
+            rocks.append({"name": values.get("name", os.path.basename(path)),
+                          "poisson_ratio": float(values["poisson_ratio"]),
+                          "strength_ratio": float(values["ucs"]) / float(values["tensile_strength"])})
+        except (KeyError, ValueError):
+            continue
+    return rocks
+
+
+def coverage(table):
+    """Share of the target rectangle (uniform in nu and in log ratio) inside some model."""
+    hits, total = 0, 0
+    for i in range(36):
+        nu = TARGET_NU[0] + (TARGET_NU[1] - TARGET_NU[0]) * i / 35.0
+        for j in range(41):
+            ratio = TARGET_RATIO[0] * (TARGET_RATIO[1] / TARGET_RATIO[0]) ** (j / 40.0)
+            total += 1
+            hits += 1 if covers(table, nu, ratio) else 0
+    return hits / total
+
+
+def plot(table, rows, rocks, png):
+    """Regions as filled polygons (lower envelope over nu, then the upper one back), the
+    measured points, the target rectangle and the published rocks."""
+    base = os.path.splitext(png)[0]
+    colours = {"rigid": "#4060a0", "moment": "#40a060", "ddem": "#d08020", "lattice": "#a040a0"}
+    drawn = [m for m in MODELS if table.get(m)]
+    with open(base + "_regions.dat", "w") as f, open(base + "_points.dat", "w") as g:
+        for model in drawn:  # one block per model: gnuplot's index
+            sets = sorted(table[model], key=lambda s: s["poisson_ratio"])
+            polygon = [(s["poisson_ratio"], s["ratio_min"]) for s in sets]
+            polygon += [(s["poisson_ratio"], s["ratio_max"]) for s in reversed(sets)]
+            f.write("".join("%g %g\n" % p for p in polygon + polygon[:1]) + "\n\n")
+            g.write("".join("%g %g\n" % (r["poisson_ratio"], r["strength_ratio"])
+                            for r in rows if r["model"] == model and "strength_ratio" in r) + "\n\n")
+    with open(base + "_rocks.dat", "w") as f:
+        f.write("".join("%g %g\n" % (r["poisson_ratio"], r["strength_ratio"]) for r in rocks))
+    plots = []
+    for k, model in enumerate(drawn):
+        plots.append("'%s_regions.dat' index %d using 1:2 with filledcurves closed lc rgb '%s' title '%s'" % (
+            base, k, colours[model], MODELS[model]))
+        plots.append("'%s_points.dat' index %d using 1:2 with points pt 7 ps 0.6 lc rgb '%s' notitle" % (
+            base, k, colours[model]))
+    plots.append("'%s_rocks.dat' using 1:2 with points pt 6 ps 1.6 lw 2 lc rgb '#d02020' "
+                 "title 'published rocks'" % base)
+    plots.append("1/0 with lines dt 2 lw 2 lc rgb '#202020' title 'target: nu 0.05-0.40, ratio 4-25'")
+    script = "\n".join([
+        "set terminal pngcairo size 1100,760 font ',11'", "set output '%s'" % png,
+        "set logscale y", "set xrange [0:0.5]", "set yrange [2:60]", "set grid",
+        "set xlabel 'nu (plane strain)'", "set ylabel 'UCS / sigma_t (Brazilian)'",
+        "set title 'Reach on the default 2D specimens (5,064-disc UCS, 3,940-disc Brazilian), measured'",
+        "set key outside right top", "set style fill transparent solid 0.25 border",
+        "set object 1 rect from %g,%g to %g,%g fs empty border lc rgb '#202020' dt 2 lw 2" % (
+            TARGET_NU[0], TARGET_RATIO[0], TARGET_NU[1], TARGET_RATIO[1]),
+        "plot " + ", \\\n  ".join(plots), ""])
+    result = subprocess.run(["gnuplot"], input=script, capture_output=True, text=True)
+    if result.returncode != 0:
+        print("gnuplot failed: " + result.stderr[-800:])
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--build", default="build")
+    parser.add_argument("--out", default="bench-out/reach")
+    parser.add_argument("--packings", nargs=2, metavar=("UCS", "BTS"))
+    parser.add_argument("--models", default="rigid,moment,ddem,lattice")
+    parser.add_argument("--markdown", help="the page to write (default OUT/reach_map.md)")
+    parser.add_argument("--picture", help="where to copy the picture (default: only OUT/reach_map.png)")
+    parser.add_argument("--quick", action="store_true", help="the two ends of every grid axis: a smoke test")
+    args = parser.parse_args()
+    models = [m.strip() for m in args.models.split(",")]
+    unknown = set(models) - set(MODELS)
+    if unknown:
+        parser.error("--models: unknown %s" % ", ".join(sorted(unknown)))
+    build, out = os.path.abspath(args.build), os.path.abspath(args.out)
+    os.makedirs(out, exist_ok=True)
+
+    packings = args.packings
+    if not packings:
+        reference = os.path.join(ROOT, "bench-out", "calibration", "reference")
+        packings = [os.path.join(reference, "reference_ucs.packing"), os.path.join(reference, "reference_bts.packing")]
+        if not all(os.path.exists(p) for p in packings):
+            reference = os.path.join(out, "reference")
+            print("making the calibrator's default specimens (one-round calibration of the Labra rock) ...", flush=True)
+            cb.calibrate(build, os.path.join(ROOT, "data", "materials", "labra2012_rock.toml"), reference,
+                         "reference", cb.fresh_maps(os.path.join(ROOT, "data", "maps"), os.path.join(out, "maps")),
+                         ["--rounds", "1"])
+            packings = [os.path.join(reference, "reference_ucs.packing"),
+                        os.path.join(reference, "reference_bts.packing")]
+    packings = [os.path.abspath(p) for p in packings]
+
+    start = time.monotonic()
+    rows = measure(build, packings, models, out, args.quick)
+    table = regions(rows)
+    rocks = published_rocks()
+    for rock in rocks:
+        rock["models"] = covers(table, rock["poisson_ratio"], rock["strength_ratio"])
+    share = coverage(table)
+
+    csv_path = os.path.join(out, "reach_map.csv")
+    fields = ["model", "poisson_ratio", "kt_over_kn", "rt_over_rn", "kn_over_ep_l", "friction_angle_deg",
+              "tensile_over_cohesion", "ucs_pa", "tensile_strength_pa", "strength_ratio", "seconds", "failure"]
+    with open(csv_path, "w") as f:
+        f.write(",".join(fields) + "\n")
+        for r in rows:
+            f.write(",".join(str(r.get(k, "")) for k in fields) + "\n")
+    with open(os.path.join(out, "reach_map.json"), "w") as f:
+        json.dump({"specimens": packings, "points": rows, "regions": table, "published_rocks": rocks,
+                   "target": {"poisson_ratio": TARGET_NU, "strength_ratio": TARGET_RATIO},
+                   "target_covered_share": share}, f, indent=1)
+    png = os.path.join(out, "reach_map.png")
+    plot(table, rows, rocks, png)
+
+    md = ["# Reach map (2D, the calibrator's default specimens)", "",
+          "Reproduce: `python3 tools/bench/reach_map.py --markdown tools/bench/reach_map.md "
+          "--picture docs/images/reach_map.png` (about %.0f minutes on 2 cores). Every point is the "
+          "elastic run, the UCS and the Brazilian test of run-test on the 5,064-disc UCS square and the "
+          "3,940-disc Brazilian disc; the grids are in the script's header." % ((time.monotonic() - start) / 60), "",
+          "![reach map](../../docs/images/reach_map.png)", "",
+          "| model | nu (plane strain) | UCS / sigma_t at that nu: lowest - highest measured |", "|---|---|---|"]
+    for model in MODELS:
+        for s in table.get(model, []):
+            md.append("| %s | %.3f | %.1f - %.1f |" % (MODELS[model], s["poisson_ratio"], s["ratio_min"], s["ratio_max"]))
+    failures = [r for r in rows if "failure" in r]
+    md += ["", "Share of the target rectangle (nu 0.05-0.40 x ratio 4-25, uniform in nu and in the "
+           "logarithm of the ratio) inside the region of at least one model: **%.0f %%**." % (100 * share), "",
+           "| published rock | nu | UCS / sigma_t | inside the region of |", "|---|---|---|---|"]
+    for rock in rocks:
+        md.append("| %s | %.2f | %.1f | %s |" % (rock["name"], rock["poisson_ratio"], rock["strength_ratio"],
+                                              ", ".join(rock["models"]) or "**none**"))
+    if failures:
+        md += ["", "Points without a result: " + "; ".join(
+            "%s %s" % (r["model"], r["failure"]) for r in failures)]
+    md.append("")
+    text = "\n".join(md)
+    print("\n" + text)
+    with open(args.markdown or os.path.join(out, "reach_map.md"), "w") as f:
+        f.write(text)
+    if args.picture and os.path.exists(png):
+        os.makedirs(os.path.dirname(os.path.abspath(args.picture)), exist_ok=True)
+        with open(png, "rb") as src, open(args.picture, "wb") as dst:
+            dst.write(src.read())
+    print("written: %s, reach_map.json, reach_map.png" % csv_path)
+
+
+if __name__ == "__main__":
+    main()
