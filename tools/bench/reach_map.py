@@ -23,7 +23,7 @@ Brazilian test; the point's (nu, UCS / sigma_t) goes into the map. The grids:
 A model's region is, at each of its elastic sets (one nu), the interval of the ratio over its
 strength parameters. The map is measured, not taken from the calibration maps: the map
 specimens (0.3 of the particles) transfer the ratio poorly (at kt/kn 0.3, Rt/Rn 0.25 they
-give 6.9 where the default specimen gives 11.2). The issue's target rectangle (nu 0.05-0.40,
+give 6.9 where the default specimen gives 11.2). The target rectangle of a reach (nu 0.05-0.40,
 ratio 4-25) and the published rocks of data/materials/published/ are drawn on it.
 """
 import argparse
