@@ -143,6 +143,19 @@ struct ContactPlaneRotation<2> {
   Vector<2> from, to;
 };
 
+// The rotation where the pass's stages use it (tangential history, bond moments), else
+// nothing: a scene without either computes no square root or division for it.
+struct NoPlaneRotation {};
+template <int Dim, bool kNeeded>
+inline auto PlaneRotationIf(const Vector<Dim>& old_normal, const Vector<Dim>& new_normal,
+                            double twist_angle) {
+  if constexpr (kNeeded) {
+    return ContactPlaneRotation<Dim>(old_normal, new_normal, twist_angle);
+  } else {
+    return NoPlaneRotation{};
+  }
+}
+
 inline Vector<3> RotateTangentialForceInline(const Vector<3>& tangential_force,
                                              const Vector<3>& old_normal,
                                              const Vector<3>& new_normal, double twist_angle) {
@@ -264,7 +277,8 @@ void ContactPass(SceneState<Dim>& s, ContactPassTotals* totals) {
     [[maybe_unused]] double twist = 0.0;
     if constexpr (Dim == 3 && (kTangential || kMoment))
       twist = 0.5 * dt * (spins[i] + spins[j]).dot(n);
-    [[maybe_unused]] const ContactPlaneRotation<Dim> turn(normals[k], n, twist);
+    [[maybe_unused]] const auto turn =
+        PlaneRotationIf<Dim, kTangential || kMoment>(normals[k], n, twist);
     if constexpr (kTangential) {
       tangential_velocity = relative_velocity - normal_velocity * n;  // Madan (2.30)
       // Madan (2.28)-(2.29), Labra (2.20) with the sign of the force on i: the stored force
