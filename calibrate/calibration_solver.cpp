@@ -1195,6 +1195,14 @@ std::string CalibrationReach::Describe(const TargetMaterial& target) const {
   return out.str();
 }
 
+double CalibrationReach::Miss(const TargetMaterial& target, double tolerance_poisson, double tolerance_ratio) const {
+  // (relative to nu, as its tolerance is; nu may be zero or negative)
+  const double nu = (nearest_poisson - target.poisson_ratio) /
+                    (tolerance_poisson * std::max(std::abs(target.poisson_ratio), 1e-3));
+  const double ratio = std::log(target.StrengthRatio() / nearest_strength_ratio) / std::log1p(tolerance_ratio);
+  return std::hypot(nu, ratio);
+}
+
 nlohmann::json CalibrationReach::ToJson() const {
   nlohmann::json region_json = nlohmann::json::array();
   for (const ReachSample& s : region)

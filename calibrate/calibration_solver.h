@@ -103,6 +103,11 @@ struct CalibrationReach {
   // Out of reach before any strength round: nu outside the measured interval, or the ratio
   // outside the surfaces' reach by more than their transfer uncertainty.
   bool declared_out_of_reach() const { return !poisson_reachable || !strength_ratio_possible; }
+  // How far the nearest reachable point lies from the target, in tolerances: the root of the
+  // summed squares of (nearest nu / nu - 1) / tolerance_poisson and of ln(ratio / nearest
+  // ratio) / ln(1 + tolerance_ratio). 0 inside the reach; the automatic model choice takes
+  // the smaller.
+  double Miss(const TargetMaterial& target, double tolerance_poisson, double tolerance_ratio) const;
   // Sentences for the report: the intervals, where the target lies, what is given up.
   std::string Describe(const TargetMaterial& target) const;
   nlohmann::json ToJson() const;

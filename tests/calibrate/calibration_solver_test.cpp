@@ -516,6 +516,31 @@ TEST(CalibrationSolver, PoissonRatioOutsideTheMeasuredIntervalIsGivenUp) {
   EXPECT_EQ(s.reach.given_up.front(), "nu");
 }
 
+// The distance of a reach from the target, in tolerances, which the automatic model choice
+// compares when neither model reaches: a nu 2.2 % beyond one model's end is nearer than one
+// 33 % beyond the other's, whatever their strength ratios (the Nevada Test Site basalt: nu
+// 0.32, sigma_c / sigma_t 11.3; DDEM reaches nu 0.313, rigid particles 0.214).
+TEST(CalibrationReach, MissCountsToleranceWidthsToTheNearestReachablePoint) {
+  TargetMaterial target;
+  target.poisson_ratio = 0.32;
+  target.ucs_pa = 113e6;
+  target.tensile_strength_pa = 10e6;
+  CalibrationReach ddem, rigid;
+  ddem.nearest_poisson = 0.313, ddem.nearest_strength_ratio = 11.3;
+  rigid.nearest_poisson = 0.2137, rigid.nearest_strength_ratio = 11.3;
+  EXPECT_NEAR(ddem.Miss(target, 0.015, 0.05), (0.32 - 0.313) / (0.015 * 0.32), 1e-12);
+  EXPECT_LT(ddem.Miss(target, 0.015, 0.05), rigid.Miss(target, 0.015, 0.05));
+  // Inside the reach: nothing missed. A ratio one tolerance off: one.
+  CalibrationReach inside;
+  inside.nearest_poisson = 0.32, inside.nearest_strength_ratio = 11.3;
+  EXPECT_EQ(inside.Miss(target, 0.015, 0.05), 0.0);
+  inside.nearest_strength_ratio = 11.3 * 1.05;
+  EXPECT_NEAR(inside.Miss(target, 0.015, 0.05), 1.0, 1e-12);
+  // Both misses add in quadrature.
+  inside.nearest_poisson = 0.32 * (1 - 0.015);
+  EXPECT_NEAR(inside.Miss(target, 0.015, 0.05), std::sqrt(2.0), 1e-9);
+}
+
 // Maps whose strengths vary with Rt/Rn three times less than the real specimen's (without
 // any offset): the first round overshoots, the offset correction then asks for a step three
 // times too long the other way, that round is worse, it is rejected, the region shrinks to
