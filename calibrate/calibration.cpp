@@ -19,7 +19,7 @@
 #include "generator/metrics.h"
 #include "calibrate/lab_forward_model.h"
 #include "lab/lab_measurement.h"
-#include "solver/stability_analysis.h"
+#include "stability/stability_analysis.h"
 #include "specimen_version.h"
 
 namespace specimen {

@@ -32,7 +32,7 @@ struct TimeStepOptions {
   // The critical time step [s] from a sharper analysis (the stability-limit stage); 0: use
   // the per-particle bound of Madan (2.18).
   double critical_time_step_s = 0.0;
-  // Take the critical time step from the stability analysis (stability_analysis.h, the
+  // Take the critical time step from the stability limits (stability_limits.h, the
   // default): the certified 2/omega_max of the assembled network, with the DDEM strain lag,
   // the dashpots at the stability boundary and the walls within the search skin; false: the
   // per-particle bound of time_step.h (cheaper, not a bound for irregular packings). The

@@ -11,7 +11,7 @@
 #include "common/error.h"
 #include "solver/bond_moment.h"
 #include "solver/scene_state.h"
-#include "solver/stability_analysis.h"
+#include "solver/stability_limits.h"
 #include "common/format.h"
 
 namespace specimen {
@@ -269,13 +269,13 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
   }
   double analysed_critical_step_s = 0.0;
   if (options.time_step.from_stability_analysis) {
-    // The certified limit of the assembled network (stability_analysis.h): it includes the
+    // The certified limit of the assembled network (stability_limits.h): it includes the
     // DDEM strain lag, so no separate lag factor; and the DDEM convergence check.
-    StabilityOptions stability;
+    StabilityLimitOptions stability;
     stability.locate_mode = false;
     stability.wall_reach_m = s.search_skin_m;
     stability.max_spectral_radius = options.time_step.max_spectral_radius;
-    const StabilitySummary analysis = AnalyseStability<Dim>(packing, options, stability);
+    const StabilityLimits analysis = AnalyseStabilityLimits<Dim>(packing, options, stability);
     if (analysis.deformable &&
         analysis.spectral_radius >= options.time_step.max_spectral_radius &&
         !options.time_step.allow_above_critical)

@@ -1,7 +1,7 @@
 #pragma once
 // The largest eigenvalue of a symmetric positive semi-definite operator, applied matrix-free,
-// with a certified upper bound: the numerical core of the stability analysis
-// (stability_analysis.h), used for omega_max^2 of the bonded network, rho(B) of the DDEM force
+// with a certified upper bound: the numerical core of the stability limits
+// (stability_limits.h), used for omega_max^2 of the bonded network, rho(B) of the DDEM force
 // iteration and the DDEM-reduced critical time step.
 //
 // Method: Lanczos from a random start (Gaussian, seeded: reproducible).

@@ -1,6 +1,6 @@
 #pragma once
-// The linearised bonded network of a scene: what the stability analysis
-// (stability_analysis.h) takes eigenvalues of. Built once from the packing and the scene, then
+// The linearised bonded network of a scene: what the stability limits (stability_limits.h)
+// take eigenvalues of. Built once from the packing and the scene, then
 // applied matrix-free (one loop over the links, one gather over the particles; OpenMP above
 // 4096 items, the result independent of the thread count).
 //
@@ -142,7 +142,7 @@ class LinearisedNetwork {
                              const std::vector<double>& x1, const std::vector<double>& x2,
                              std::vector<double>& y1, std::vector<double>& y2) const;
 
-  // The operator of the DDEM step of normal springs (stability_analysis.cpp, the pencil):
+  // The operator of the DDEM step of normal springs (stability_limits.cpp, the pencil):
   // y = A A^T x + shift S x with A = K_n^1/2 C M^-1/2, in two passes (links -> particles:
   // the motions M^-1 C^T K_n^1/2 x and the strains of the forces K_n^1/2 x; particles ->
   // links: the elongations and the strain corrections). Only for networks without rotational
@@ -151,7 +151,7 @@ class LinearisedNetwork {
                            const std::vector<double>& x, std::vector<double>& y) const;
 
   // The operator of the DDEM step with tangential springs, without dashpots (the pencil of
-  // stability_analysis.cpp for kt > 0): on link vectors v = (v_n, v_t), normals first, then
+  // stability_limits.cpp for kt > 0): on link vectors v = (v_n, v_t), normals first, then
   // Dim numbers per link (their normal components are ignored),
   //   y = A~ A~^T v + shift (S v_n, 0),   A~ = [A_n + G A_t / 2; A_t],
   // with A_n = K_n^1/2 C_n M^-1/2, A_t = K_t^1/2 C_t M^-1/2 and G = K_n^1/2 M_nt K_t^1/2 the

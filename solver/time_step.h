@@ -44,7 +44,7 @@
 // particle), an upper estimate of beta (lambda_max(D) >= n.D.n).
 //
 // The sharp estimate (Lanczos on the assembled system, with the DDEM iteration matrix) is
-// the stability analysis (stability_analysis.h), which the Simulation uses by default
+// the stability limits (stability_limits.h), which the Simulation uses by default
 // (TimeStepOptions::from_stability_analysis); this bound is its fallback when that is off,
 // and the analysis reports it for comparison. A value can also be passed in as
 // TimeStepOptions::critical_time_step_s. Note: the dashpot factor

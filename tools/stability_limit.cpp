@@ -1,6 +1,6 @@
 // stability-limit: the critical time step and the DDEM convergence bound of a bonded packing
 // for a parameter set, certified, and a verdict for a proposed time step (the
-// analysis is solver/stability_analysis.h, the parameter file solver/stability_parameters.h).
+// analysis is stability/stability_analysis.h, the parameter file stability/stability_parameters.h).
 //
 // Sample runs:
 //   stability-limit --packing out/packing.packing --kn 7e10 --density 2000
@@ -42,7 +42,7 @@
 #include "generator/packing_io.h"
 #include "solver/lattice_packing.h"
 #include "solver/lattice_stability.h"
-#include "solver/stability_parameters.h"
+#include "stability/stability_parameters.h"
 #include "specimen_version.h"
 #include "tools/command_line.h"
 
@@ -342,7 +342,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string(kVersion));
   app.add_option("--packing", cl.packing, "packing file (generate-packing output)")->required();
   app.add_option("--parameters", cl.parameters,
-                 "TOML parameter file (solver/stability_parameters.h); options override it");
+                 "TOML parameter file (stability/stability_parameters.h); options override it");
   auto number = [&](const char* flag, std::optional<double>& field, const char* help) {
     app.add_option_function<double>(
         flag, [&field](double x) { field = x; }, help);

@@ -22,7 +22,7 @@
 #include "common/error.h"
 #include "solver/regular_lattice.h"
 #include "solver/simulation.h"
-#include "solver/stability_analysis.h"
+#include "solver/stability_limits.h"
 
 namespace specimen {
 namespace {
@@ -281,8 +281,8 @@ void ExpectRotationalLatticeLimit(const Packing<Dim>& block, int n) {
   const double exact = 2.0 / std::sqrt(2.0 * (2.0 + 2.0 * std::cos(kPi / n)) * kb_over_j);
   const double translational = 2.0 / std::sqrt(4.0 * kNormalStiffness / mass);
   EXPECT_LT(exact, 0.95 * translational);
-  StabilityOptions options;
-  const StabilitySummary s = AnalyseStability<Dim>(block, scene, options);
+  StabilityLimitOptions options;
+  const StabilityLimits s = AnalyseStabilityLimits<Dim>(block, scene, options);
   EXPECT_NEAR(s.dem_time_step_ritz_s, exact, 1e-6 * exact);
   EXPECT_LE(s.critical_time_step_s, s.dem_time_step_ritz_s);
   EXPECT_GT(s.critical_time_step_s, 0.995 * exact);  // the certificate's margin

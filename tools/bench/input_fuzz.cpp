@@ -31,7 +31,7 @@
 #include "common/error.h"
 #include "generator/packing_io.h"
 #include "lab/lab_scene_file.h"
-#include "solver/stability_parameters.h"
+#include "stability/stability_parameters.h"
 
 namespace specimen {
 namespace {

@@ -37,7 +37,7 @@
 #include "generator/packing_io.h"
 #include "solver/regular_lattice.h"
 #include "solver/simulation.h"
-#include "solver/stability_analysis.h"
+#include "stability/stability_analysis.h"
 #include "tools/command_line.h"
 
 namespace specimen {

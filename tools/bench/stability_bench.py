@@ -291,7 +291,7 @@ def write_markdown(path, grid_rows, timings, command, machine_note, notes=()):
                 "local damping 0.1.",
                 "",
                 "The analysis holds a scene with wall links to a factor x the linear limit",
-                "(`DampedUnilateralFactor` in `stability/stability_analysis.h`; damping = the larger",
+                "(`DampedUnilateralFactor` in `solver/stability_limits.h`; damping = the larger",
                 "of alpha and the dashpot ratios): 0.85 below 0.05; from 0.05 to 0.1, 0.94 (2D) and",
                 "0.92 (3D); from 0.1 to 0.3, 1 (2D) and 0.96 (3D); 1 from 0.3. Shares of the linear",
                 "limit (the predicted step divided by that factor):",

@@ -17,7 +17,7 @@
 #include "common/error.h"
 #include "generator/generate.h"
 #include "solver/simulation.h"
-#include "solver/stability_analysis.h"
+#include "stability/stability_analysis.h"
 
 namespace specimen {
 namespace {
@@ -221,7 +221,7 @@ TEST(StabilityExtremeCases, PencilEqualsInnerSolves) {
 }
 
 // kt > 0, no dashpots: the pencil bounds the symmetric part H_s of the boundary operator by
-// H_u = H_s + A_t^T G^T P G A_t / 4 (stability_analysis.cpp), without inner solves. Exact
+// H_u = H_s + A_t^T G^T P G A_t / 4 (solver/stability_limits.cpp), without inner solves. Exact
 // Lanczos on both: the pencil's step is never above the inner-solve one (the safe side) and
 // within 0.5 % of it; certified: on the safe side of it and within the tolerance.
 template <int Dim>

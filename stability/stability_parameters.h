@@ -39,7 +39,7 @@
 
 #include "generator/packing.h"
 #include "solver/scene.h"
-#include "solver/stability_analysis.h"
+#include "stability/stability_analysis.h"
 
 namespace specimen {
 

@@ -1,21 +1,23 @@
 #pragma once
-// The stability analysis of a bonded (DDEM) scene: the critical time step and the DDEM
+// The stability limits of a bonded (DDEM) scene: the critical time step and the DDEM
 // convergence bound of the actual packing, certified, and a verdict for a proposed time step
-// and parameter set (the core of the stability-limit command; Simulation uses it when
-// TimeStepOptions::from_stability_analysis is set).
+// and parameter set. The Simulation takes its time step from them
+// (TimeStepOptions::from_stability_analysis, the default), which is why they live beside the
+// engine; the stability analysis of the stability-limit command (stability/stability_analysis.h)
+// adds the closed-form lattice limits, the sweep over nu_p, the report and the JSON.
 //
-//   StabilityOptions options;
+//   StabilityLimitOptions options;
 //   options.proposed_time_step_s = 2.9e-7;
-//   StabilitySummary summary = AnalyseStability<2>(packing, scene, options);
-//   std::cout << summary.FullReport();   // limits, certificates, verdict
+//   StabilityLimits limits = AnalyseStabilityLimits<2>(packing, scene, options);
+//   std::cout << limits.BriefReport();   // dt_cr, rho(B), verdict
 //
 // What is computed (LinearisedNetwork, stability_network.h, is the linear system):
 // 1. Critical time step of central differences, undamped: dt_cr = 2 / omega_max (Madan (2.15)),
 //    omega_max^2 = lambda_max(M^-1/2 K M^-1/2) with translations, rotations, walls and without
 //    the prescribed axes, by Lanczos (stability_lanczos.h). Reported: the Ritz value (a lower
 //    bound of omega_max^2), the certified upper bound (Kuczynski-Wozniakowski, failure
-//    probability 1e-6), the deterministic Gershgorin bound, and the per-particle bound the
-//    solver uses by default (time_step.h). The step reported as critical uses the certified
+//    probability 1e-6), the deterministic Gershgorin bound, and the per-particle bound (the
+//    solver's fallback, time_step.h). The step reported as critical uses the certified
 //    upper bound, capped by Gershgorin: never on the unsafe side (up to the stated
 //    probability), and sharp to the stated tolerance (0.2 % by default).
 //    Damping, as the solver integrates it: a lagged dashpot force c v_(n-1/2) is, at the
@@ -30,8 +32,8 @@
 //    S^ = Ep S: rho(B) = lambda_max(S^) / Ep, and the admissible kn/(Ep l) (2D, l = 1 m;
 //    kn/(Ep R_mean) in 3D) = kn / (l lambda_max(S^)) at rho(B) = 1, with its share
 //    max_spectral_radius (default 0.95) as the recommended largest kn/(Ep l) and the smallest
-//    Ep that keeps rho(B) <= max_spectral_radius; next to the closed-form row, SC and HCP
-//    limits (stability_closed_forms.h).
+//    Ep that keeps rho(B) <= max_spectral_radius (the stability analysis sets the closed-form
+//    row, SC and HCP limits beside it).
 // 3. DDEM critical time step: the explicit scheme uses the strains of the previous step's
 //    forces (Madan (3.17)), f^n = K_c C u^n - L f^(n-1). An oscillation at the stability
 //    boundary z = -1 has f^(n-1) = -f^n, so its forces are (I - L)^-1 K_c C u: the effective
@@ -50,7 +52,7 @@
 //    certified). With tangential springs the symmetric part is bounded from above by an
 //    operator of the same form on (normal, tangential) link vectors (PencilCriticalStep in
 //    the .cpp: it drops a negative semi-definite term; 0-0.2 % lower steps than the
-//    symmetric part in tests/solver/stability_extreme_test.cpp, 0.05 % on 50,000 spheres).
+//    symmetric part in tests/stability/stability_extreme_test.cpp, 0.05 % on 50,000 spheres).
 //    With dashpots (I - L)^-1 is applied by conjugate gradients on I - S (inner solves).
 //    As rho(B) -> 1 the DDEM step falls to zero: the two limits interact (docs/stability.md,
 //    "The DDEM critical time step").
@@ -58,8 +60,6 @@
 // 4. Verdict for the proposed (or the recommended) time step: unstable beyond a limit,
 //    marginal within time_step_margin of dt_cr or with rho(B) above max_spectral_radius,
 //    stable otherwise; the binding limit and its margin in per cent.
-// 5. Optionally, the admissible kn/(Ep l) against nu_p for the packing (a sweep), and its
-//    largest value with its nu_p (the softest particles the packing allows, for any kn).
 //
 // What the linear analysis leaves out (reported as warnings, see the benchmark):
 //  - DDEM with kt > 0 is not conservative: undamped runs grow slowly (flutter) at any step;
@@ -75,20 +75,21 @@
 //    therefore held to DampedUnilateralFactor(damping) x the linear limit (its comment gives
 //    the benchmark's figures); no factor is a proof for impacts.
 
-#include <nlohmann/json_fwd.hpp>
-#include <optional>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "generator/packing.h"
 #include "solver/particles.h"
 #include "solver/scene.h"
-#include "solver/stability_closed_forms.h"
 #include "solver/stability_lanczos.h"
 
 namespace specimen {
 
-struct StabilityOptions {
+template <int Dim>
+class LinearisedNetwork;  // stability_network.h
+
+struct StabilityLimitOptions {
   // Time step to judge [s], >= 0; 0: the scene's time_step.time_step_s if given, else the
   // recommended step.
   double proposed_time_step_s = 0.0;
@@ -121,8 +122,6 @@ struct StabilityOptions {
   // contacts.bond_gap_tolerance x R (touching). The Simulation passes its search skin (the
   // particles a wall may touch, as its per-particle bound counts them).
   double wall_reach_m = -1.0;
-  // nu_p values of the sweep of the admissible kn/(Ep l), each in (-1, 0.5); empty: no sweep.
-  std::vector<double> sweep_poisson_ratios;
   // The mode shape of omega_max (its most moving particle). Costs one more Lanczos pass when
   // the basis is not stored.
   bool locate_mode = true;
@@ -146,15 +145,7 @@ struct EigenvalueReport {
   int inner_iterations = 0;  // DDEM step: total conjugate-gradient iterations
 };
 
-struct SweepRow {
-  double poisson_ratio = 0.0;
-  double spectral_radius_times_ep_pa = 0.0;  // lambda_max(S^) certified [Pa]
-  double admissible_kn_over_ep = 0.0;        // at rho(B) = 1
-  double recommended_kn_over_ep = 0.0;       // at rho(B) = max_spectral_radius
-  LatticeLimits lattice;
-};
-
-struct StabilitySummary {
+struct StabilityLimits {
   // --- Scene ---
   int dimension = 0;
   int particles = 0;
@@ -178,7 +169,7 @@ struct StabilitySummary {
   // certified step of the DEM network) and local damping 1/sqrt(1 + alpha) lower the step.
   double dashpot_factor = 1.0, local_damping_factor = 1.0;
   int dashpot_fixed_point_iterations = 0;
-  double per_particle_bound_s = 0.0;           // Madan (2.18), the solver's default (time_step.h)
+  double per_particle_bound_s = 0.0;           // Madan (2.18), the solver's fallback (time_step.h)
   // Inertia scaling of the material (MaterialParameters::mass_scaling_budget): every step
   // above is that of the scaled masses.
   MassScalingSummary mass_scaling;
@@ -225,7 +216,6 @@ struct StabilitySummary {
   double admissible_kn_over_ep = 0.0;       // rho(B) = 1
   double recommended_kn_over_ep = 0.0;      // rho(B) = max_spectral_radius
   double smallest_youngs_modulus_pa = 0.0;  // Ep giving rho(B) = max_spectral_radius
-  LatticeLimits lattice;
   double kn_over_ep = 0.0;  // of the scene (deformable)
 
   // --- Verdict ---
@@ -238,19 +228,12 @@ struct StabilitySummary {
   double time_step_margin_percent = 0.0;
   double spectral_radius_margin_percent = 0.0;  // 100 (1 - rho(B)), deformable only
 
-  std::vector<SweepRow> sweep;
-  // The largest admissible kn/(Ep l) of the sweep (at rho(B) = 1 and at
-  // max_spectral_radius) and its nu_p: the softest particles the packing allows, for any
-  // kn (an Ep-free choice). 0 without a sweep.
-  double sweep_largest_kn_over_ep = 0.0, sweep_largest_recommended_kn_over_ep = 0.0;
-  double sweep_largest_poisson_ratio = 0.0;
   // What the linear analysis does not cover in this scene (each one sentence).
   std::vector<std::string> warnings;
   double seconds = 0.0;
 
+  // One line: dt_cr, the recommended step, rho(B) and the admissible kn/(Ep l), the verdict.
   std::string BriefReport() const;
-  std::string FullReport() const;
-  nlohmann::json ToJson() const;
 };
 
 // Factor on the linear critical step for scenes with wall links (header: impacts), from the
@@ -263,10 +246,23 @@ struct StabilitySummary {
 // virtual laboratory's damping (0.7) gets no factor. A benchmark figure, not a proof.
 double DampedUnilateralFactor(double damping, int dimension);
 
-// The analysis of a scene on a packing. Throws InputError for invalid options, scenes or
+// The limits of a scene on a packing. Throws InputError for invalid options, scenes or
 // packings (naming the field and its range); ComputationError if an inner solve fails.
+// `more`, when given, is called last with the linearised network and the options in force
+// (their thread count set from the scene), before the time is taken: the stability analysis
+// computes its sweep there, on the same network.
 template <int Dim>
-StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOptions<Dim>& scene,
-                                  const StabilityOptions& options);
+StabilityLimits AnalyseStabilityLimits(
+    const Packing<Dim>& packing, const SceneOptions<Dim>& scene,
+    const StabilityLimitOptions& options,
+    const std::function<void(const LinearisedNetwork<Dim>&, const StabilityLimitOptions&)>& more =
+        nullptr);
+
+// lambda_max(S^) of the network's DDEM operator for `compliance` (Ep = 1: rho(B) x Ep), by the
+// certified Lanczos iteration of `options`, labelled `label` in the progress display.
+template <int Dim>
+LanczosResult LargestDdemEigenvalue(const LinearisedNetwork<Dim>& network,
+                                    const ParticleCompliance<Dim>& compliance,
+                                    const StabilityLimitOptions& options, const std::string& label);
 
 }  // namespace specimen

@@ -1,4 +1,4 @@
-#include "solver/stability_closed_forms.h"
+#include "stability/stability_closed_forms.h"
 
 #include <algorithm>
 #include <cmath>

@@ -6,7 +6,7 @@
 // solver's use of the analysis. The labels are those of docs/sources.md, the other expected
 // values those of docs/stability.md, "Validation".
 
-#include "solver/stability_analysis.h"
+#include "stability/stability_analysis.h"
 
 #include <gtest/gtest.h>
 

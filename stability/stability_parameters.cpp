@@ -1,4 +1,4 @@
-#include "solver/stability_parameters.h"
+#include "stability/stability_parameters.h"
 
 #include <toml++/toml.h>
 

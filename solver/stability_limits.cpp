@@ -1,8 +1,9 @@
-#include "solver/stability_analysis.h"
+#include "solver/stability_limits.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -38,14 +39,14 @@ EigenvalueReport Report(const LanczosResult& r) {
 }
 
 // The Lanczos options of one stage, with its progress label.
-LanczosOptions StageOptions(const StabilityOptions& options, const std::string& label) {
+LanczosOptions StageOptions(const StabilityLimitOptions& options, const std::string& label) {
   LanczosOptions lanczos = options.lanczos;
   lanczos.progress = options.progress;
   lanczos.progress_label = label;
   return lanczos;
 }
 
-// The operator of the step's stability boundary z = -1 (stability_analysis.h, items 1 and 3):
+// The operator of the step's stability boundary z = -1 (stability_limits.h, items 1 and 3):
 // H = sym(M^-1/2 C^T (I - L)^-1 K* C M^-1/2), where at z = -1 a link's force is
 //  - normal: (kn + 2 cn / dt) g plus kn times the strain correction of the total forces (the
 //    lagged dashpot force c v_(n-1/2) = c (u_n - u_(n-1)) / dt = 2 c u_n / dt acts as a
@@ -58,7 +59,7 @@ class BoundaryOperator {
   // compliance: nullptr for rigid particles; dashpot_time_step_s: the dt of 2c/dt (0: no
   // dashpots).
   BoundaryOperator(const LinearisedNetwork<Dim>& network, const ParticleCompliance<Dim>* compliance,
-                   double dashpot_time_step_s, const StabilityOptions& options)
+                   double dashpot_time_step_s, const StabilityLimitOptions& options)
       : network_(network), compliance_(compliance), options_(options) {
     const int links = network.link_count();
     normal_.resize(links);
@@ -207,7 +208,7 @@ class BoundaryOperator {
 
   const LinearisedNetwork<Dim>& network_;
   const ParticleCompliance<Dim>* compliance_;
-  const StabilityOptions& options_;
+  const StabilityLimitOptions& options_;
   std::vector<double> normal_, tangential_, root_kn_;
   bool symmetric_ = true;
   long inner_iterations_ = 0;
@@ -239,7 +240,7 @@ struct BoundaryResult {
 template <int Dim>
 BoundaryResult<Dim> CriticalStep(const LinearisedNetwork<Dim>& network,
                                  const ParticleCompliance<Dim>* compliance,
-                                 const StabilityOptions& options, LanczosOptions lanczos,
+                                 const StabilityLimitOptions& options, LanczosOptions lanczos,
                                  double local_damping_factor, double undamped_cap,
                                  double inexact_margin = 0.0) {
   BoundaryResult<Dim> result;
@@ -324,7 +325,7 @@ BoundaryResult<Dim> CriticalStep(const LinearisedNetwork<Dim>& network,
 template <int Dim>
 std::optional<BoundaryResult<Dim>> PencilCriticalStep(const LinearisedNetwork<Dim>& network,
                                                       const ParticleCompliance<Dim>& compliance,
-                                                      const StabilityOptions& options,
+                                                      const StabilityLimitOptions& options,
                                                       const LanczosOptions& lanczos,
                                                       double local_damping_factor,
                                                       double start, double lower_bound) {
@@ -442,7 +443,7 @@ double DampedUnilateralFactor(double damping, int dimension) {
   return damping < 0.1 ? 0.94 : 1.0;
 }
 
-bool StabilityOptions::IsValid(std::string* error) const {
+bool StabilityLimitOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& field, double value, const std::string& range) {
     if (error) *error = field + " = " + Number(value) + " is not allowed: it must be " + range;
     return false;
@@ -463,8 +464,6 @@ bool StabilityOptions::IsValid(std::string* error) const {
   if (!(inner_tolerance > 0.0 && inner_tolerance < 1e-3))
     return fail("inner_tolerance", inner_tolerance, "in (0, 1e-3)");
   if (inner_max_iterations < 1) return fail("inner_max_iterations", inner_max_iterations, ">= 1");
-  for (const double nu : sweep_poisson_ratios)
-    if (!(nu > -1.0 && nu < 0.5)) return fail("sweep nu_p", nu, "in (-1, 0.5)");
   std::string inner;
   if (!lanczos.IsValid(&inner)) {
     if (error) *error = "lanczos." + inner;
@@ -474,9 +473,23 @@ bool StabilityOptions::IsValid(std::string* error) const {
 }
 
 template <int Dim>
-StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOptions<Dim>& scene,
-                                  const StabilityOptions& given_options) {
-  StabilityOptions options = given_options;
+LanczosResult LargestDdemEigenvalue(const LinearisedNetwork<Dim>& network,
+                                    const ParticleCompliance<Dim>& compliance,
+                                    const StabilityLimitOptions& options, const std::string& label) {
+  return LargestEigenvalue(
+      network.link_count(),
+      [&](const std::vector<double>& x, std::vector<double>& y) {
+        network.ApplyDdemOperator(compliance, x, y);
+      },
+      StageOptions(options, label));
+}
+
+template <int Dim>
+StabilityLimits AnalyseStabilityLimits(
+    const Packing<Dim>& packing, const SceneOptions<Dim>& scene,
+    const StabilityLimitOptions& given_options,
+    const std::function<void(const LinearisedNetwork<Dim>&, const StabilityLimitOptions&)>& more) {
+  StabilityLimitOptions options = given_options;
   options.lanczos.num_threads = scene.num_threads;  // the network's products and the vectors'
   std::string error;
   if (!options.IsValid(&error)) throw InputError("stability analysis: " + error);
@@ -485,7 +498,7 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
   const auto start = std::chrono::steady_clock::now();
   const LinearisedNetwork<Dim> network(packing, scene, options.wall_reach_m);
   const MaterialParameters& material = scene.material;
-  StabilitySummary s;
+  StabilityLimits s;
 
   // 1. The scene.
   s.dimension = Dim;
@@ -578,21 +591,12 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
   const ParticleCompliance<Dim> unit_compliance(1.0, material.particle_poisson_ratio,
                                                 material.plane_model);
   s.max_spectral_radius = options.max_spectral_radius;
-  s.lattice = ClosedFormLimits(Dim, material.particle_poisson_ratio, material.plane_model);
-  auto unit_radius = [&](const ParticleCompliance<Dim>& compliance, const std::string& label,
-                         EigenvalueReport* report) {
-    if (network.link_count() == 0) return 0.0;
-    const LanczosResult r = LargestEigenvalue(
-        network.link_count(),
-        [&](const std::vector<double>& x, std::vector<double>& y) {
-          network.ApplyDdemOperator(compliance, x, y);
-        },
-        StageOptions(options, label));
-    if (report) *report = Report(r);
-    return r.certified_upper_bound;
-  };
   const double kn = material.normal_stiffness_n_per_m;
-  s.unit_spectral_radius_pa = unit_radius(unit_compliance, "rho(B)", &s.convergence_eigenvalue);
+  if (network.link_count() > 0) {
+    const LanczosResult r = LargestDdemEigenvalue<Dim>(network, unit_compliance, options, "rho(B)");
+    s.convergence_eigenvalue = Report(r);
+    s.unit_spectral_radius_pa = r.certified_upper_bound;
+  }
   if (s.unit_spectral_radius_pa > 0.0) {
     s.admissible_kn_over_ep = kn / (s.group_length_m * s.unit_spectral_radius_pa);
     s.recommended_kn_over_ep = options.max_spectral_radius * s.admissible_kn_over_ep;
@@ -762,36 +766,34 @@ StabilitySummary AnalyseStability(const Packing<Dim>& packing, const SceneOption
   if (s.deformable && s.spectral_radius >= 1.0)
     s.warnings.push_back("rho(B) >= 1: the DDEM scheme diverges at any time step (Madan (3.13))");
 
-  // 7. The sweep of the admissible kn/(Ep l) against nu_p.
-  for (size_t k = 0; k < options.sweep_poisson_ratios.size(); ++k) {
-    const double nu = options.sweep_poisson_ratios[k];
-    SweepRow row;
-    row.poisson_ratio = nu;
-    const ParticleCompliance<Dim> compliance(1.0, nu, material.plane_model);
-    row.spectral_radius_times_ep_pa =
-        unit_radius(compliance,
-                    "sweep nu_p = " + Number(nu, 3) + " (" + std::to_string(k + 1) + "/" +
-                        std::to_string(options.sweep_poisson_ratios.size()) + ")",
-                    nullptr);
-    if (row.spectral_radius_times_ep_pa > 0.0) {
-      row.admissible_kn_over_ep = kn / (s.group_length_m * row.spectral_radius_times_ep_pa);
-      row.recommended_kn_over_ep = options.max_spectral_radius * row.admissible_kn_over_ep;
-    }
-    row.lattice = ClosedFormLimits(Dim, nu, material.plane_model);
-    s.sweep.push_back(row);
-    if (row.admissible_kn_over_ep > s.sweep_largest_kn_over_ep) {
-      s.sweep_largest_kn_over_ep = row.admissible_kn_over_ep;
-      s.sweep_largest_recommended_kn_over_ep = row.recommended_kn_over_ep;
-      s.sweep_largest_poisson_ratio = nu;
-    }
-  }
+  if (more) more(network, options);
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;
 }
 
-template StabilitySummary AnalyseStability<2>(const Packing<2>&, const SceneOptions<2>&,
-                                              const StabilityOptions&);
-template StabilitySummary AnalyseStability<3>(const Packing<3>&, const SceneOptions<3>&,
-                                              const StabilityOptions&);
+std::string StabilityLimits::BriefReport() const {
+  char head[256], convergence[256] = "", margin[64];
+  std::snprintf(head, sizeof(head), "%dD stability: dt_cr %.6g s (recommended %.6g s)", dimension,
+                critical_time_step_s, recommended_time_step_s);
+  if (deformable)
+    std::snprintf(convergence, sizeof(convergence), ", rho(B) %.5f, admissible kn/(Ep %s) %.5g",
+                  spectral_radius, dimension == 2 ? "l" : "R", admissible_kn_over_ep);
+  std::snprintf(margin, sizeof(margin), "%.3g", margin_percent);
+  return std::string(head) + convergence + ", " + verdict + " (" + binding_limit + ", margin " +
+         margin + " %)";
+}
+
+template StabilityLimits AnalyseStabilityLimits<2>(
+    const Packing<2>&, const SceneOptions<2>&, const StabilityLimitOptions&,
+    const std::function<void(const LinearisedNetwork<2>&, const StabilityLimitOptions&)>&);
+template StabilityLimits AnalyseStabilityLimits<3>(
+    const Packing<3>&, const SceneOptions<3>&, const StabilityLimitOptions&,
+    const std::function<void(const LinearisedNetwork<3>&, const StabilityLimitOptions&)>&);
+template LanczosResult LargestDdemEigenvalue<2>(const LinearisedNetwork<2>&,
+                                                const ParticleCompliance<2>&,
+                                                const StabilityLimitOptions&, const std::string&);
+template LanczosResult LargestDdemEigenvalue<3>(const LinearisedNetwork<3>&,
+                                                const ParticleCompliance<3>&,
+                                                const StabilityLimitOptions&, const std::string&);
 
 }  // namespace specimen

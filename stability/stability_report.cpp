@@ -1,11 +1,12 @@
-// StabilitySummary: the one-line report, the human report and the JSON (the same content).
+// StabilitySummary: the human report and the JSON (the same content); the one-line report is
+// the limits' (solver/stability_limits.cpp).
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "solver/stability_analysis.h"
+#include "stability/stability_analysis.h"
 
 namespace specimen {
 
@@ -54,17 +55,6 @@ std::string EigenvalueLine(const EigenvalueReport& e, const char* unit) {
 }
 
 }  // namespace
-
-std::string StabilitySummary::BriefReport() const {
-  std::string line = Line("%dD stability: dt_cr %.6g s (recommended %.6g s)", dimension,
-                          critical_time_step_s, recommended_time_step_s);
-  if (deformable)
-    line +=
-        Line(", rho(B) %.5f, admissible kn/(Ep %s) %.5g", spectral_radius,
-             dimension == 2 ? "l" : "R", admissible_kn_over_ep);
-  return line + ", " + verdict + " (" + binding_limit + ", margin " + Line("%.3g", margin_percent) +
-         " %)";
-}
 
 std::string StabilitySummary::FullReport() const {
   std::ostringstream out;
