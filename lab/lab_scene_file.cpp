@@ -273,6 +273,7 @@ void ReadMaterial(const toml::table* table, const std::string& source, LabScene*
   t.Number("bond_shear_strength", &m->bond_shear_strength_n);
   t.Number("friction_coefficient", &m->friction_coefficient);
   t.Number("bond_radius_ratio", &m->bond_radius_ratio);
+  t.Number("bond_range", &m->bond_range);
   required("density", &m->density_kg_per_m3);
   double modulus = 0.0;
   if (t.Number("particle_youngs_modulus", &modulus)) m->particle_youngs_modulus_pa = modulus;

@@ -32,6 +32,8 @@ bool MaterialParameters::IsValid(std::string* error) const {
   if (!(bond_radius_ratio >= 0.0 && bond_radius_ratio <= 1.0))
     return fail("bond_radius_ratio (lambda)", bond_radius_ratio,
                 "in [0, 1] (0: bonds without moment)");
+  if (!(bond_range >= 1.0 && bond_range <= 1.5))
+    return fail("bond_range (gamma)", bond_range, "in [1, 1.5] (1: the packing's contacts are the bonds)");
   if (!(density_kg_per_m3 > 0.0) || !std::isfinite(density_kg_per_m3))
     return fail("density_kg_per_m3", density_kg_per_m3, "finite and > 0");
   // Above 10 the tangential springs set the time step while the normal ones set the loading

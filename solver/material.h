@@ -39,6 +39,10 @@ struct MaterialParameters {
   // (no moment); > 0: the bond also resists relative rotation and fails on the peripheral
   // stress of its section (bond_moment.h, after Potyondy & Cundall 2004).
   double bond_radius_ratio = 0.0;
+  // Interaction range of bonding, gamma in [1, 1.5]. 1: the packing's contact pairs are the
+  // bonds; > 1: every pair whose centres lie within gamma (ri + rj) is bonded too, at its
+  // initial distance (bond_range.h, as Yade's interactionDetectionFactor).
+  double bond_range = 1.0;
 
   // --- Particles ---
   // Particle density rho [kg/m^3], > 0. 2D: m = rho pi R^2 l with l = 1 m.

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "solver/bond_range.h"
 
 namespace specimen {
 
@@ -30,7 +31,11 @@ MassScalingSummary ScaleLimitingInertia(const Packing<Dim>& packing,
                              material.tangential_stiffness_n_per_m * (1.0 + kMassRadiusOverInertia);
   if (!(per_contact > 0.0)) return summary;
   std::vector<int> contact_count(count, 0);
-  for (const auto& pair : packing.contacts) {
+  // The packing's pairs, and with an interaction range the pairs within it, as the Simulation
+  // bonds them (bond_range.h).
+  const std::vector<std::array<int, 2>> pairs =
+      material.bond_range > 1.0 ? BondCandidatePairs(packing, material.bond_range) : packing.contacts;
+  for (const auto& pair : pairs) {
     if (pair[0] < 0 || pair[1] < 0 || pair[0] >= count || pair[1] >= count) continue;
     ++contact_count[pair[0]];
     ++contact_count[pair[1]];

@@ -10,6 +10,7 @@
 
 #include "common/error.h"
 #include "solver/bond_moment.h"
+#include "solver/bond_range.h"
 #include "solver/scene_state.h"
 #include "solver/stability_limits.h"
 #include "common/format.h"
@@ -133,21 +134,19 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
   plan_.fixed_dofs = !options.fixed_dofs.empty();
   plan_.neighbour_search = options.contacts.detect_new_contacts;
 
-  // 3. Bonds: the packing's pairs within the gap tolerance (Madan (2.21)).
+  // 3. Bonds: the packing's pairs within the gap tolerance (Madan (2.21)), and the pairs
+  // within the interaction range (bond_range.h).
   s.contacts.tangential_enabled = plan_.tangential;
   s.contacts_scratch.tangential_enabled = plan_.tangential;
   s.contacts.moments_enabled = plan_.bond_moments;
   s.contacts_scratch.moments_enabled = plan_.bond_moments;
-  std::vector<std::array<int, 2>> pairs = packing.contacts;
-  for (auto& pair : pairs) {
+  for (const auto& pair : packing.contacts)
     if (pair[0] < 0 || pair[0] >= count || pair[1] < 0 || pair[1] >= count || pair[0] == pair[1])
       throw InputError("packing contact (" + std::to_string(pair[0]) + ", " +
                        std::to_string(pair[1]) + ") does not join two distinct particles of [0, " +
                        std::to_string(count - 1) + "]");
-    if (pair[0] > pair[1]) std::swap(pair[0], pair[1]);
-  }
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  const double bond_range = options.material.bond_range;
+  const std::vector<std::array<int, 2>> pairs = BondCandidatePairs(packing, bond_range);
   s.contacts.Reserve(pairs.size());
   for (const auto& [i, j] : pairs) {
     const Vector<Dim> branch = s.particles.position[j] - s.particles.position[i];
@@ -157,7 +156,8 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
                        " of a packing contact have the same centre");
     const double ri = s.particles.radius[i], rj = s.particles.radius[j];
     const double gap = distance - (ri + rj);  // as the contact law forms it (exact zero force)
-    if (std::abs(gap) <= options.contacts.bond_gap_tolerance * 0.5 * (ri + rj)) {
+    if (std::abs(gap) <= options.contacts.bond_gap_tolerance * 0.5 * (ri + rj) ||
+        WithinBondRange(distance, ri, rj, bond_range)) {
       s.contacts.AppendNew(i, j, ContactState::kBonded,
                            options.contacts.stress_free_bonds ? gap : 0.0, branch / distance);
       ++s.bonds_created;

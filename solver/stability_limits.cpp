@@ -514,6 +514,7 @@ StabilityLimits AnalyseStabilityLimits(
   s.normal_stiffness_n_per_m = material.normal_stiffness_n_per_m;
   s.tangential_stiffness_n_per_m = material.tangential_stiffness_n_per_m;
   s.bond_radius_ratio = material.bond_radius_ratio;
+  s.bond_range = material.bond_range;
   s.deformable = material.deformable();
   s.particle_poisson_ratio = material.particle_poisson_ratio;
   if (s.deformable) s.particle_youngs_modulus_pa = *material.particle_youngs_modulus_pa;

@@ -157,6 +157,7 @@ struct StabilityLimits {
   // Bond radius ratio lambda: > 0 when bonds carry moments, whose rotational springs the
   // network includes (bond_moment.h).
   double bond_radius_ratio = 0.0;
+  double bond_range = 1.0;  // gamma: contact links include the pairs within it (bond_range.h)
   bool deformable = false;
   double particle_youngs_modulus_pa = 0.0;  // 0: rigid
   double particle_poisson_ratio = 0.0;

@@ -9,6 +9,7 @@
 
 #include "common/error.h"
 #include "solver/bond_moment.h"
+#include "solver/bond_range.h"
 #include "solver/neighbour_search.h"
 #include "solver/particles.h"
 
@@ -108,12 +109,9 @@ void LinearisedNetwork<Dim>::Build(const Packing<Dim>& packing, const SceneOptio
   volume_.resize(count);
   for (int p = 0; p < count; ++p) volume_[p] = ParticleVolume<Dim>(radius_[p]);
 
-  // 2. The packing's pairs (validated by the constructor).
-  std::vector<std::array<int, 2>> pairs = packing.contacts;
-  for (auto& pair : pairs)
-    if (pair[0] > pair[1]) std::swap(pair[0], pair[1]);
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  // 2. The packing's pairs (validated by the constructor) and the pairs within the bonds'
+  // interaction range, as the Simulation bonds them (bond_range.h).
+  const std::vector<std::array<int, 2>> pairs = BondCandidatePairs(packing, material.bond_range);
   const double kn = material.normal_stiffness_n_per_m, kt = material.tangential_stiffness_n_per_m;
   auto add_link = [&](int i, int j, const Vector<Dim>& normal, double normal_k,
                       double tangential_k) {

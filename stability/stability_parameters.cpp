@@ -78,7 +78,7 @@ StabilityParameters ParseStabilityParameters(const std::string& text, const std:
         {"normal_stiffness", "tangential_stiffness", "density", "particle_youngs_modulus",
          "particle_poisson_ratio", "plane_model", "translational_damping", "rotational_damping",
          "normal_dashpot_ratio", "tangential_dashpot_ratio", "mass_scaling",
-         "bond_radius_ratio",
+         "bond_radius_ratio", "bond_range",
          // A run-test [material] table (calibrate-to-material's _parameters.toml) may be given
          // as it is: the strengths and friction do not enter the linear stability limit, and
          // are checked as numbers only.
@@ -98,6 +98,7 @@ StabilityParameters ParseStabilityParameters(const std::string& text, const std:
     p.tangential_dashpot_ratio = ReadNumber(*m, "tangential_dashpot_ratio", where);
     p.mass_scaling_budget = ReadNumber(*m, "mass_scaling", where);
     p.bond_radius_ratio = ReadNumber(*m, "bond_radius_ratio", where);
+    p.bond_range = ReadNumber(*m, "bond_range", where);
   }
   if (const toml::table* t = table("time_step")) {
     const std::string where = source + " [time_step]";
@@ -158,6 +159,7 @@ StabilityParameters MergeStabilityParameters(const StabilityParameters& a,
   Prefer(p.tangential_dashpot_ratio, a.tangential_dashpot_ratio, b.tangential_dashpot_ratio);
   Prefer(p.mass_scaling_budget, a.mass_scaling_budget, b.mass_scaling_budget);
   Prefer(p.bond_radius_ratio, a.bond_radius_ratio, b.bond_radius_ratio);
+  Prefer(p.bond_range, a.bond_range, b.bond_range);
   Prefer(p.time_step_s, a.time_step_s, b.time_step_s);
   Prefer(p.safety_factor, a.safety_factor, b.safety_factor);
   Prefer(p.max_spectral_radius, a.max_spectral_radius, b.max_spectral_radius);
@@ -199,6 +201,7 @@ SceneOptions<Dim> StabilitySceneOf(const StabilityParameters& p, const Packing<D
   m.tangential_dashpot_ratio = p.tangential_dashpot_ratio.value_or(m.normal_dashpot_ratio);
   m.mass_scaling_budget = p.mass_scaling_budget.value_or(0.0);
   m.bond_radius_ratio = p.bond_radius_ratio.value_or(0.0);
+  m.bond_range = p.bond_range.value_or(1.0);
   std::string error;
   if (!m.IsValid(&error)) throw InputError(error);
   if (p.time_step_s)

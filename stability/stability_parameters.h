@@ -16,6 +16,7 @@
 //   tangential_dashpot_ratio = 0.0   # xi_t >= 0
 //   mass_scaling = 0.01              # inertia scaling budget, in [0, 0.05] (particles.h)
 //   bond_radius_ratio = 0.0          # lambda in [0, 1]: bonds with a moment (bond_moment.h)
+//   bond_range = 1.0                 # gamma in [1, 1.5]: bonds within gamma (ri + rj) (bond_range.h)
 //
 //   [time_step]
 //   time_step = 2.5e-8               # the proposed step to judge [s], > 0
@@ -52,6 +53,7 @@ struct StabilityParameters {
   std::optional<double> normal_dashpot_ratio, tangential_dashpot_ratio;
   std::optional<double> mass_scaling_budget;
   std::optional<double> bond_radius_ratio;
+  std::optional<double> bond_range;
   std::optional<double> time_step_s, safety_factor;
   std::optional<double> max_spectral_radius, time_step_margin;
   std::optional<std::vector<std::string>> wall_sides;

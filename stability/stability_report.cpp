@@ -69,6 +69,9 @@ std::string StabilitySummary::FullReport() const {
     out << Line("  bonds carry moments: radius ratio %.4g, bending (and 3D twisting) springs on "
                 "every contact link\n",
                 bond_radius_ratio);
+  if (bond_range > 1.0)
+    out << Line("  bonds within an interaction range: every pair within %.4g (ri + rj) is a contact link\n",
+                bond_range);
   if (rattlers_without_neighbour > 0)
     out << Line("  %d particle(s) without links and without a neighbour within the search skin\n",
                 rattlers_without_neighbour);
@@ -164,6 +167,7 @@ nlohmann::json StabilitySummary::ToJson() const {
                 {"normal_stiffness_n_per_m", normal_stiffness_n_per_m},
                 {"tangential_stiffness_n_per_m", tangential_stiffness_n_per_m},
                 {"bond_radius_ratio", bond_radius_ratio},
+                {"bond_range", bond_range},
                 {"particle_model", particle_model},
                 {"particle_youngs_modulus_pa",
                  deformable ? nlohmann::json(particle_youngs_modulus_pa) : nlohmann::json(nullptr)},

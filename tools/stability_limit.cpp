@@ -82,6 +82,7 @@ const FieldNames kOptionNames = {
     {"tangential_dashpot_ratio (xi_t)", "xi_t (--dashpot, [material] tangential_dashpot_ratio)"},
     {"mass_scaling_budget", "the mass scaling budget (--mass-scaling, [material] mass_scaling)"},
     {"bond_radius_ratio (lambda)", "lambda (--bond-radius-ratio, [material] bond_radius_ratio)"},
+    {"bond_range (gamma)", "gamma (--bond-range, [material] bond_range)"},
     {"proposed_time_step_s", "the proposed time step (--dt, [time_step] time_step)"},
     {"safety_factor", "safety_factor (--safety, [time_step] safety_factor)"},
     {"time_step_margin", "the time step margin (--margin / 100, [stability] time_step_margin)"},
@@ -254,10 +255,10 @@ int RunLattice(const CommandLine& cl, const PackingFile& file) {
   if (v.normal_stiffness_n_per_m || v.tangential_stiffness_n_per_m || v.particle_youngs_modulus_pa ||
       v.particle_poisson_ratio || !cl.walls.empty() || !cl.sweep.empty() || !cl.parameters.empty() ||
       v.translational_damping || v.normal_dashpot_ratio || v.mass_scaling_budget ||
-      v.bond_radius_ratio)
+      v.bond_radius_ratio || v.bond_range)
     throw InputError("--lattice-E / --lattice-nu analyse the lattice alone: --kn, --kt, --Ep, --nu-p, --walls, "
-                     "--sweep, --parameters, --damping, --dashpot, --mass-scaling and --bond-radius-ratio "
-                     "are for bonded particles");
+                     "--sweep, --parameters, --damping, --dashpot, --mass-scaling, --bond-radius-ratio and "
+                     "--bond-range are for bonded particles");
   if (!v.density_kg_per_m3) throw InputError("--density is missing (the lattice's lumped masses)");
   const double density = *v.density_kg_per_m3;
   if (!(density > 0.0 && std::isfinite(density)))
@@ -367,6 +368,9 @@ int main(int argc, char** argv) {
   number("--bond-radius-ratio", v.bond_radius_ratio,
          "bonds with a moment: bond radius over the smaller particle radius, in [0, 1] "
          "(0: no moment)");
+  number("--bond-range", v.bond_range,
+         "interaction range of bonding: pairs within gamma (ri + rj) are bonded too, in [1, 1.5] "
+         "(1: the packing's contacts)");
   number("--dt", v.time_step_s, "proposed time step to judge [s] (> 0)");
   number("--safety", v.safety_factor,
          "recommended step = safety x critical, in (0, 1], default 0.9");
