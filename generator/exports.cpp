@@ -11,21 +11,6 @@
 namespace specimen {
 namespace {
 
-// Exports index particles by contacts; a packing that breaks that would give a file the
-// other program rejects (or worse, misreads), so refuse it here.
-template <int Dim>
-void RequireExportable(const Packing<Dim>& packing, const std::string& format) {
-  if (packing.centres.size() != packing.radii.size())
-    throw InputError("cannot export " + format + ": " + std::to_string(packing.centres.size()) +
-                     " centres but " + std::to_string(packing.radii.size()) + " radii");
-  for (const auto& contact : packing.contacts)
-    if (contact[0] < 0 || contact[1] < 0 || contact[0] >= packing.size() ||
-        contact[1] >= packing.size())
-      throw InputError("cannot export " + format + ": contact (" + std::to_string(contact[0]) +
-                       ", " + std::to_string(contact[1]) + ") refers to a particle that does " +
-                       "not exist (there are " + std::to_string(packing.size()) + ")");
-}
-
 // Provenance for a one-line comment: line breaks removed, length bounded (LIGGGHTS reads
 // lines into a 256-character buffer; a longer first line would spill into the header).
 std::string OneLine(const std::string& text, size_t maximum_length) {
@@ -55,6 +40,19 @@ std::string CentreXyz(const Vector<Dim>& centre, char separator) {
 }
 
 }  // namespace
+
+template <int Dim>
+void RequireExportable(const Packing<Dim>& packing, const std::string& format) {
+  if (packing.centres.size() != packing.radii.size())
+    throw InputError("cannot export " + format + ": " + std::to_string(packing.centres.size()) +
+                     " centres but " + std::to_string(packing.radii.size()) + " radii");
+  for (const auto& contact : packing.contacts)
+    if (contact[0] < 0 || contact[1] < 0 || contact[0] >= packing.size() ||
+        contact[1] >= packing.size())
+      throw InputError("cannot export " + format + ": contact (" + std::to_string(contact[0]) +
+                       ", " + std::to_string(contact[1]) + ") refers to a particle that does " +
+                       "not exist (there are " + std::to_string(packing.size()) + ")");
+}
 
 template <int Dim>
 void WriteVtu(const Packing<Dim>& packing, std::ostream& out) {
@@ -200,6 +198,8 @@ void SaveLiggghtsData(const Packing<Dim>& packing, const std::string& path,
       path, [&](std::ostream& out) { WriteLiggghtsData(packing, out, density_kg_per_m3); });
 }
 
+template void RequireExportable<2>(const Packing<2>&, const std::string&);
+template void RequireExportable<3>(const Packing<3>&, const std::string&);
 template void WriteVtu<2>(const Packing<2>&, std::ostream&);
 template void WriteVtu<3>(const Packing<3>&, std::ostream&);
 template void WriteYadeSphereList<2>(const Packing<2>&, std::ostream&);

@@ -15,6 +15,12 @@
 
 namespace specimen {
 
+// Throws InputError unless every contact refers to existing particles and there are as many
+// radii as centres: an export indexes particles by contacts, and a file the other program
+// misreads is worse than none. `format` names the export in the message.
+template <int Dim>
+void RequireExportable(const Packing<Dim>& packing, const std::string& format);
+
 // VTK XML UnstructuredGrid (ascii, VTK file format 1.0). Points: particle centres (z = 0
 // in 2D). Cells: one VTK_VERTEX per particle (cell i is particle i), then one VTK_LINE per
 // contact in packing order. PointData: "radius" (Float64, m) and "contacts" (Int32, number

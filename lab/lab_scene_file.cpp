@@ -385,18 +385,32 @@ void ReadOutput(const toml::table* table, const std::string& source, LabOutputOp
     throw InputError(t.where() + ": name = '" + output->name + "' is not allowed: " + rule);
 }
 
-}  // namespace
+// The text of a TOML input, or a FileError naming what it is (`kind`).
+std::string ReadTomlFile(const std::string& path, const std::string& kind) {
+  if (std::filesystem::is_directory(path))
+    throw FileError("the " + kind + " '" + path + "' is a directory, not a file");
+  std::ifstream in(path);
+  if (!in) throw FileError("cannot read the " + kind + " '" + path + "'");
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
 
-LabScene ParseLabScene(const std::string& toml_text, const std::string& source) {
-  toml::table root;
+toml::table ParseToml(const std::string& toml_text, const std::string& source) {
   try {
-    root = toml::parse(toml_text, source);
+    return toml::parse(toml_text, source);
   } catch (const toml::parse_error& e) {
     std::ostringstream message;
     message << source << ", line " << e.source().begin.line << ", column "
             << e.source().begin.column << ": " << e.description();
     throw InputError(message.str());  // malformed content, as a bad value on the command line
   }
+}
+
+}  // namespace
+
+LabScene ParseLabScene(const std::string& toml_text, const std::string& source) {
+  toml::table root = ParseToml(toml_text, source);
   for (const auto& [key, value] : root) {
     (void)value;
     const std::string name(key.str());
@@ -442,13 +456,27 @@ LabScene ParseLabScene(const std::string& toml_text, const std::string& source) 
 }
 
 LabScene LoadLabScene(const std::string& path) {
-  if (std::filesystem::is_directory(path))
-    throw FileError("the scene '" + path + "' is a directory, not a file");
-  std::ifstream in(path);
-  if (!in) throw FileError("cannot read the scene file '" + path + "'");
-  std::stringstream text;
-  text << in.rdbuf();
-  return ParseLabScene(text.str(), path);
+  return ParseLabScene(ReadTomlFile(path, "scene file"), path);
+}
+
+MaterialParameters ParseMaterialFile(const std::string& toml_text, const std::string& source) {
+  const toml::table root = ParseToml(toml_text, source);
+  for (const auto& [key, value] : root) {
+    (void)value;
+    if (key.str() != "material")
+      throw InputError(source + ": unknown table or key '" + std::string(key.str()) +
+                       "' (a parameter file has the [material] table only)");
+  }
+  LabScene scene;
+  ReadMaterial(root["material"].as_table(), source, &scene);
+  if (scene.lattice)
+    throw InputError(source + " [material]: model = \"lattice\" is not allowed here: the parameters of bonded "
+                     "particles are needed");
+  return scene.material;
+}
+
+MaterialParameters LoadMaterialFile(const std::string& path) {
+  return ParseMaterialFile(ReadTomlFile(path, "parameter file"), path);
 }
 
 }  // namespace specimen

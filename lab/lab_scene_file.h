@@ -94,6 +94,12 @@ LabScene ParseLabScene(const std::string& toml_text, const std::string& source);
 // Reads and parses `path`; FileError if it cannot be read.
 LabScene LoadLabScene(const std::string& path);
 
+// A parameter file: a TOML file whose only table is a bonded [material] table, checked as a
+// scene's (calibrate-to-material's `_parameters.toml`). Throws InputError naming the file,
+// the key and its range; FileError if it cannot be read.
+MaterialParameters ParseMaterialFile(const std::string& toml_text, const std::string& source);
+MaterialParameters LoadMaterialFile(const std::string& path);
+
 // The library's field names of MaterialParameters and LabTestOptions as the scene keys that
 // set them, for InUserTerms (common/field_names.h): the messages of a run name the keys.
 FieldNames SceneKeyNames();
