@@ -290,6 +290,11 @@ void RequireYadeMaterial(const MaterialParameters& material, const std::string& 
     throw InputError(source + ": bond_radius_ratio = " + Number(material.bond_radius_ratio) +
                      " (bonds with a moment) is not allowed: it must be 0 for the Yade export (CohFrictPhys "
                      "checks its moment limits apart from the force, not on the combined peripheral stress)");
+  if (material.bond_range > 1.0)
+    throw InputError(source + ": bond_range = " + Number(material.bond_range) +
+                     " (bonds within an interaction range) is not allowed: it must be 1 for the Yade export "
+                     "(the script bonds the packing's contact pairs only; the pairs at range would need Yade's "
+                     "interactionDetectionFactor on both the collider and the geometry functor, not checked here)");
   if (!std::isfinite(material.bond_tensile_strength_n) || !std::isfinite(material.bond_shear_strength_n))
     throw InputError(source + ": an unbreakable bond (bond_tensile_strength or bond_shear_strength = inf) "
                      "has no Yade equivalent here: give finite strengths");

@@ -118,6 +118,9 @@ TEST(YadeExport, RefusesWhatYadesLawCannotCarryAndWritesNothing) {
   MaterialParameters moments = Material();
   moments.bond_radius_ratio = 0.5;
   EXPECT_NE(refusal(moments).find("bond_radius_ratio = 0.5"), std::string::npos);
+  MaterialParameters ranged = Material();
+  ranged.bond_range = 1.2;
+  EXPECT_NE(refusal(ranged).find("bond_range = 1.2"), std::string::npos);
   MaterialParameters unbreakable = Material();
   unbreakable.bond_tensile_strength_n = std::numeric_limits<double>::infinity();
   EXPECT_NE(refusal(unbreakable).find("unbreakable"), std::string::npos);
