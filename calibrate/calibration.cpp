@@ -143,7 +143,7 @@ nlohmann::json SweepSpecimenJson(const PackingDescriptors& ucs, const PackingDes
 // kn/(Ep l) at rho(B) = max_spectral_radius for nu_p on a packing (stability_analysis.h).
 template <int Dim>
 double AdmissibleParticleCompliance(const Packing<Dim>& packing, double kn, double density, double nu_p,
-                                    PlaneModel plane_model, double max_spectral_radius) {
+                                    PlaneModel plane_model, double max_spectral_radius, double bond_range) {
   SceneOptions<Dim> scene;
   scene.material.normal_stiffness_n_per_m = kn;
   scene.material.tangential_stiffness_n_per_m = 0.0;
@@ -152,6 +152,7 @@ double AdmissibleParticleCompliance(const Packing<Dim>& packing, double kn, doub
   const double length = Dim == 2 ? 1.0 : VolumeMeanRadius<Dim>(packing.radii);
   scene.material.particle_youngs_modulus_pa = kn / (0.01 * length);
   scene.material.particle_poisson_ratio = nu_p;
+  scene.material.bond_range = bond_range;  // the bonds at range are links of the DDEM iteration too
   StabilityOptions options;
   options.max_spectral_radius = max_spectral_radius;
   options.locate_mode = false;
@@ -290,6 +291,8 @@ bool CalibrationOptions::IsValid(std::string* error) const {
     out << "particle_poisson_ratio = " << particle_poisson_ratio << ", allowed (-1, 0.5)";
   else if (!(friction_coefficient >= 0.0 && friction_coefficient <= 10.0))
     out << "friction_coefficient = " << friction_coefficient << ", allowed [0, 10]";
+  else if (!(bond_range >= 1.0 && bond_range <= 1.5))
+    out << "bond_range = " << bond_range << ", allowed [1, 1.5]";
   else if (workers < 0 || workers > 256)
     out << "workers = " << workers << ", allowed 0 (all hardware threads) to 256";
   else if (!(max_spectral_radius > 0.0 && max_spectral_radius < 1.0))
@@ -454,9 +457,9 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
   // design's box, on the real specimens (both) for the calibration.
   auto admissible_on_real = [&](double nu_p) {
     return std::min(AdmissibleParticleCompliance<Dim>(specimens.ucs, reference_kn, target.density_kg_per_m3, nu_p,
-                                                      plane_model, options.max_spectral_radius),
+                                                      plane_model, options.max_spectral_radius, options.bond_range),
                     AdmissibleParticleCompliance<Dim>(specimens.bts, reference_kn, target.density_kg_per_m3, nu_p,
-                                                      plane_model, options.max_spectral_radius));
+                                                      plane_model, options.max_spectral_radius, options.bond_range));
   };
   auto deformable_design = [&]() {
     if (!options.deformable_design.axes.empty()) return options.deformable_design;
@@ -464,17 +467,21 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     const double bound =
         std::min(AdmissibleParticleCompliance<Dim>(specimens.sweep_ucs, reference_kn, target.density_kg_per_m3,
                                                    options.particle_poisson_ratio, plane_model,
-                                                   options.max_spectral_radius),
+                                                   options.max_spectral_radius, options.bond_range),
                  AdmissibleParticleCompliance<Dim>(specimens.sweep_bts, reference_kn, target.density_kg_per_m3,
                                                    options.particle_poisson_ratio, plane_model,
-                                                   options.max_spectral_radius));
-    return WithLevels(DefaultSweepDesign(true, options.particle_poisson_ratio, bound, options.friction_coefficient),
-                      options.sweep_levels);
+                                                   options.max_spectral_radius, options.bond_range));
+    SweepDesign d = WithLevels(
+        DefaultSweepDesign(true, options.particle_poisson_ratio, bound, options.friction_coefficient),
+        options.sweep_levels);
+    d.fixed.bond_range = options.bond_range;
+    return d;
   };
   auto rigid_design = [&]() {
-    return options.rigid_design.axes.empty()
-               ? WithLevels(DefaultSweepDesign(false, 0.0, 0.0, options.friction_coefficient), options.sweep_levels)
-               : options.rigid_design;
+    if (!options.rigid_design.axes.empty()) return options.rigid_design;
+    SweepDesign d = WithLevels(DefaultSweepDesign(false, 0.0, 0.0, options.friction_coefficient), options.sweep_levels);
+    d.fixed.bond_range = options.bond_range;
+    return d;
   };
 
   // --- 2. The loop on the real specimens: its forward model, one solver per model ---------

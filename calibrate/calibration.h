@@ -105,6 +105,9 @@ struct CalibrationOptions {
   int sweep_levels = 0;
   double particle_poisson_ratio = 0.45;  // nu_p of the deformable maps, in (-1, 0.5)
   double friction_coefficient = 0.8;     // mu (Labra's verification value), >= 0
+  // gamma of every map and round: bonds within gamma (ri + rj) (solver/bond_range.h), [1, 1.5].
+  // Above 1 it raises sigma_c / sigma_t of bonded spheres (docs/calibration.md, "Reach").
+  double bond_range = 1.0;
   int workers = 0;                       // sweep points at once; 0 = hardware threads
 
   // --- Protocol of every test (kind, progress set per test). Density scaling is on. ---

@@ -244,6 +244,8 @@ std::string MaterialTomlTable(const MaterialParameters& m, int dimension) {
   out << "bond_tensile_strength = " << Exact(m.bond_tensile_strength_n) << "   # Rn [N]\n";
   out << "bond_shear_strength = " << Exact(m.bond_shear_strength_n) << "     # Rt [N]\n";
   out << "friction_coefficient = " << Exact(m.friction_coefficient) << "\n";
+  if (m.bond_range != 1.0)
+    out << "bond_range = " << Exact(m.bond_range) << "              # gamma: bonds within gamma (ri + rj)\n";
   out << "density = " << Exact(m.density_kg_per_m3) << "                   # [kg/m^3], before scaling\n";
   if (m.particle_youngs_modulus_pa) {
     out << "particle_youngs_modulus = " << Exact(*m.particle_youngs_modulus_pa) << "   # Ep [Pa] (DDEM)\n";

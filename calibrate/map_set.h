@@ -20,6 +20,7 @@ struct MicroRatios {
   double friction_coefficient = 0.0;            // mu
   double normal_stiffness_to_particle = 0.0;    // kn / (Ep l); 0 = rigid particles
   double particle_poisson_ratio = 0.0;          // nu_p
+  double bond_range = 1.0;                      // gamma: bonds within gamma (ri + rj), fixed
 };
 
 // Names of the ratios as map inputs.

@@ -32,11 +32,14 @@ MicroRatio RatioFromName(const std::string& name) {
 }  // namespace
 
 nlohmann::json SweepPointRatiosToJson(const MicroRatios& r) {
-  return {{"kt_over_kn", r.tangential_to_normal_stiffness},
-          {"rt_over_rn", r.shear_to_tensile_strength},
-          {"friction", r.friction_coefficient},
-          {"kn_over_ep_l", r.normal_stiffness_to_particle},
-          {"particle_poisson_ratio", r.particle_poisson_ratio}};
+  nlohmann::json j = {{"kt_over_kn", r.tangential_to_normal_stiffness},
+                      {"rt_over_rn", r.shear_to_tensile_strength},
+                      {"friction", r.friction_coefficient},
+                      {"kn_over_ep_l", r.normal_stiffness_to_particle},
+                      {"particle_poisson_ratio", r.particle_poisson_ratio}};
+  // Written only when bonds reach beyond the contacts: maps without it keep their keys.
+  if (r.bond_range != 1.0) j["bond_range"] = r.bond_range;
+  return j;
 }
 
 MicroRatios SweepPointRatiosFromJson(const nlohmann::json& j) {
@@ -46,6 +49,7 @@ MicroRatios SweepPointRatiosFromJson(const nlohmann::json& j) {
   r.friction_coefficient = j.at("friction").get<double>();
   r.normal_stiffness_to_particle = j.at("kn_over_ep_l").get<double>();
   r.particle_poisson_ratio = j.at("particle_poisson_ratio").get<double>();
+  r.bond_range = j.value("bond_range", 1.0);
   return r;
 }
 
@@ -280,6 +284,7 @@ MaterialParameters MaterialAt(const MicroRatios& r, double kn, double rn, double
   m.bond_tensile_strength_n = rn;
   m.bond_shear_strength_n = r.shear_to_tensile_strength * rn;
   m.friction_coefficient = r.friction_coefficient;
+  m.bond_range = r.bond_range;
   m.density_kg_per_m3 = density;
   m.plane_model = plane_model;
   if (r.normal_stiffness_to_particle > 0.0) {

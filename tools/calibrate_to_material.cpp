@@ -55,6 +55,7 @@ struct CommandLine {
   double max_spectral_radius = 0.9;
   double particle_poisson_ratio = 0.45;
   double friction = 0.8;
+  double bond_range = 1.0;
   std::optional<double> rate_group;
   std::optional<int> sweep_levels;
   std::string honour = "compressive";
@@ -70,6 +71,7 @@ const FieldNames kOptionNames = {
     {"max_spectral_radius", "--max-spectral-radius"},
     {"particle_poisson_ratio", "--nu-p"},
     {"friction_coefficient", "--friction"},
+    {"bond_range", "--bond-range"},
     {"loading_rate_group", "--rate-group"},
     {"sweep_levels", "--sweep-levels"},
     {"workers", "--workers"},
@@ -276,6 +278,9 @@ int main(int argc, char** argv) {
                  "bound on rho(B) of the DDEM iteration, in (0, 1), default 0.9");
   app.add_option("--nu-p", cl.particle_poisson_ratio, "particle Poisson ratio of the DDEM maps, default 0.45");
   app.add_option("--friction", cl.friction, "friction coefficient mu of broken bonds, default 0.8");
+  app.add_option("--bond-range", cl.bond_range,
+                 "bond every pair within gamma (ri + rj), in [1, 1.5]; above 1 it raises sigma_c/sigma_t "
+                 "(spheres); default 1: the packing's contacts");
   app.add_option("--sweep-levels", cl.sweep_levels,
                  "levels of kt/kn in the map sweep (Rt/Rn and kn/(Ep l): one fewer, at least 3), 3 to 12; "
                  "default 4 (rigid), 3 (DDEM)");
@@ -299,7 +304,8 @@ int main(int argc, char** argv) {
       if (cl.dimension != 2) throw InputError("--model lattice: the six-spring lattice is 2D (--dimension 2)");
       // Settings of the bonded calibration that the lattice has no use for: refused, not ignored.
       for (const char* option : {"--maps", "--maps-dir", "--no-reuse", "--workers", "--sweep-fraction",
-                                 "--sweep-levels", "--nu-p", "--friction", "--max-spectral-radius", "--honour"})
+                                 "--sweep-levels", "--nu-p", "--friction", "--bond-range", "--max-spectral-radius",
+                                 "--honour"})
         if (app.count(option) > 0)
           throw InputError(std::string(option) + " is a setting of the bonded calibration; --model lattice has no maps");
       return RunLattice(target, cl);
@@ -318,6 +324,7 @@ int main(int argc, char** argv) {
     options.max_spectral_radius = cl.max_spectral_radius;
     options.particle_poisson_ratio = cl.particle_poisson_ratio;
     options.friction_coefficient = cl.friction;
+    options.bond_range = cl.bond_range;
     if (cl.rate_group) options.test.loading_rate_group = *cl.rate_group;
     if (cl.sweep_levels) {
       if (*cl.sweep_levels < 3 || *cl.sweep_levels > 12)

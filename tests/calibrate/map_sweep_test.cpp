@@ -174,6 +174,22 @@ TEST(MapSweep, MeasuresTheVoigtTrendsAndResumesFromTheJournal) {
   fs::remove(journal);
 }
 
+// The ratios as the map files store them: a bond range is written only when it is not 1, so
+// maps built without it keep their keys (and the shipped maps stay found).
+TEST(SweepDesign, RatiosRoundTripAndABondRangeChangesTheKeyOnlyWhenSet) {
+  MicroRatios r;
+  r.tangential_to_normal_stiffness = 0.3;
+  r.shear_to_tensile_strength = 4.0;
+  r.friction_coefficient = 0.8;
+  EXPECT_FALSE(SweepPointRatiosToJson(r).contains("bond_range"));
+  EXPECT_EQ(SweepPointRatiosFromJson(SweepPointRatiosToJson(r)).bond_range, 1.0);
+  r.bond_range = 1.25;
+  const MicroRatios back = SweepPointRatiosFromJson(SweepPointRatiosToJson(r));
+  EXPECT_EQ(back.bond_range, 1.25);
+  EXPECT_EQ(back.shear_to_tensile_strength, 4.0);
+  EXPECT_EQ(MaterialAt(back, 1e10, 1e4, 2600.0, PlaneModel::kPlaneStrain, 1.0).bond_range, 1.25);
+}
+
 TEST(MapSweep, BadOptionsAreRefusedBeforeAnyWork) {
   const Specimens& s = Shared();
   MapSweepOptions options = SmallOptions();

@@ -158,12 +158,19 @@ def write_target(path, name, target, density):
                                                         target["ucs"], target["tensile_strength"], density))
 
 
-def draw_hidden(rng, deformable, bound, dimension):
+MEAN_RADIUS_2D = 3.77e-4  # of the calibrator's default 2D specimen [m]
+
+
+def draw_hidden(rng, deformable, bound, dimension, mean_radius=None):
+    """kn and Rn of the 2D draw are per metre of thickness on discs of MEAN_RADIUS_2D; in 3D
+    they keep the stress scales on spheres of mean_radius: kn ~ E r, Rn ~ sigma r^2 (bonds in
+    3D carry about 2.5 times the 2D bond stress for the same rock, as the 3D Labra rock
+    calibrates: Rn 547 N on r 1.8 mm)."""
     h = {"dimension": dimension, "density": 2650.0, "kn": math.exp(rng.uniform(math.log(1e10), math.log(6e10))),
          "rn": math.exp(rng.uniform(math.log(4e3), math.log(2.5e4))), "rt_over_rn": rng.uniform(2.5, 9.5)}
-    if dimension == 3:  # kn ~ E r, Rn ~ sigma r^2 for r about 1 mm
-        h["kn"] *= 2.5e-3
-        h["rn"] *= 2.5e-3 ** 2 * 10
+    if dimension == 3:
+        h["kn"] *= mean_radius
+        h["rn"] *= 2.5 * mean_radius ** 2 / MEAN_RADIUS_2D
     if deformable:
         h["kt_over_kn"] = rng.uniform(0.2, 0.55)
         h["kn_over_ep_l"] = rng.uniform(0.15, 0.85) * bound[0]
@@ -411,17 +418,21 @@ def main():
             os.makedirs(master3)
             r = calibrate(build, os.path.join(materials, "labra2012_rock.toml"), os.path.join(out, "maps_built_3d"),
                           "labra_3d", master3, ["--dimension", "3", "--count", str(args.count_3d)])
-            rows.append(row_of("3D Labra rock, maps built", r))
             reports.append(("3D Labra rock, maps built", r))
             strip_to_anchors(master3)
         ref3 = os.path.join(out, "maps_built_3d")
+        rows3 = []
+        with open(os.path.join(ref3, "labra_3d_report.json")) as f:  # built now or by an earlier run
+            labra3 = json.load(f)
+        labra3.setdefault("wall_seconds", labra3["seconds"])
+        labra3.setdefault("exit_status", 0 if labra3["converged"] and not labra3["given_up"] else 4)
+        rows3.append(row_of("3D Labra rock, maps built", labra3))
         packings3 = [os.path.join(ref3, "labra_3d_ucs.packing"), os.path.join(ref3, "labra_3d_bts.packing")]
         with open(os.path.join(ref3, "labra_3d_report.json")) as f:
             mean_radius = json.load(f)["specimens"]["ucs"]["mean_radius"]
         rng = random.Random(args.seed + 1000)
-        rows3 = []
         for i in range(args.twins_3d):
-            hidden = draw_hidden(rng, False, None, 3)
+            hidden = draw_hidden(rng, False, None, 3, mean_radius)
             hidden["mean_radius"] = mean_radius
             d = os.path.join(out, "twin3d_%02d" % (i + 1))
             target = forward(build, packings3, hidden, os.path.join(d, "forward"))
