@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """calibrate-to-material --model lattice on the published rocks: prints a table and writes
-bench-out/lattice_calibration/lattice_calibration_bench.md.
+it next to this script (lattice_calibration_bench.md; --markdown to write it elsewhere).
 
   tools/bench/lattice_calibration_bench.py [--build build] [--out bench-out/lattice_calibration]
-        [--only name,name] [--count 5000]
+        [--only name,name] [--count 5000] [--markdown FILE]
 
 For every material of data/materials/published/ and the bundled Labra rock: the rounds, the
 best round's errors (E, nu from the UCS's linear portion; UCS, sigma_t), the outcome
@@ -29,6 +29,8 @@ def main():
     parser.add_argument("--out", default=os.path.join(ROOT, "bench-out", "lattice_calibration"))
     parser.add_argument("--only", default="", help="comma-separated file names without .toml")
     parser.add_argument("--count", type=int, default=0, help="UCS specimen size (0: the calibrator's default)")
+    parser.add_argument("--markdown", default=os.path.join(ROOT, "tools", "bench", "lattice_calibration_bench.md"),
+                        help="the page to write")
     args = parser.parse_args()
     tool = os.path.join(os.path.abspath(args.build), "tools", "calibrate-to-material")
     out = os.path.abspath(args.out)
@@ -72,8 +74,17 @@ def main():
         converged, len(rows), statistics.median(row["seconds"] for row in rows) if rows else 0.0))
     text = "\n".join(lines)
     print(text)
-    with open(os.path.join(out, "lattice_calibration_bench.md"), "w") as f:
-        f.write(text + "\n")
+    command = "python3 tools/bench/lattice_calibration_bench.py" + (" --only " + args.only if args.only else "") + (
+        " --count %d" % args.count if args.count > 0 else "")
+    header = ["# calibrate-to-material --model lattice on published rocks", "",
+              "Reproduce: `OMP_WAIT_POLICY=passive %s` (2 cores). The six-spring lattice (2D, plane strain) "
+              "takes E and nu as inputs (the linear portion of each round's UCS checks them) and finds the "
+              "triangles' cohesion and tensile strength by rounds of UCS and Brazilian tests on the "
+              "calibrator's default specimens; the friction angle is the material's when it gives one, "
+              "else free (lowered when the shear limit caps the Brazilian strength). Tolerances: E, nu 1.5 %%, "
+              "UCS 2 %%, sigma_t 5 %%." % command, ""]
+    with open(args.markdown, "w") as f:
+        f.write("\n".join(header) + "\n" + text + "\n")
     return 0
 
 
