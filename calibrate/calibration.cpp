@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
+#include "common/ranks.h"
 #include "generator/generate.h"
 #include "generator/metrics.h"
 #include "calibrate/lab_forward_model.h"
@@ -183,6 +184,14 @@ SurrogateMeasurement FromVerified(const VerifiedPoint& v, const PackingDescripto
     m.tensile_per_strength = v.tensile_group * bts.SolidCoordination() / bts.CharacteristicArea();
   }
   return m;
+}
+
+// A number every rank must agree on (a bound that sets the design, and so the sweep's points
+// and the maps' key), computed on rank 0 and sent to the others: one computation, and the
+// same bits everywhere even if it ran threads whose order is not reproducible.
+template <typename Compute>
+double OnRankZero(Compute compute) {
+  return Broadcast(Rank() == 0 ? compute() : 0.0);
 }
 
 // Which reach is better when neither model reaches the target: the one that reaches nu,
@@ -386,7 +395,9 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     }
     MapSweepOptions sweep_options = sweep_options_for(sweep_ucs, label);
     if (!path.empty()) {
-      std::filesystem::create_directories(options.maps_directory);
+      // Rank 0 writes every file of the store; the other ranks only their sweep journals,
+      // after the sweep's first exchange (so after this).
+      if (Rank() == 0) std::filesystem::create_directories(options.maps_directory);
       sweep_options.journal_path = path + ".journal";
     }
     const auto sweep_start = Clock::now();
@@ -425,13 +436,15 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
         v.origin = "anchor";
         stored.verified.push_back(v);
       }
-      if (!anchor_options.journal_path.empty()) std::filesystem::remove(anchor_options.journal_path);
+      if (Rank() == 0) RemoveSweepJournals(anchor_options.journal_path);
     }
     stored.sweep_seconds = SecondsSince(sweep_start);
     summary.sweep_seconds += stored.sweep_seconds;
     if (!path.empty()) {
-      SaveStoredMaps(stored, path);
-      std::filesystem::remove(sweep_options.journal_path);
+      if (Rank() == 0) {
+        SaveStoredMaps(stored, path);
+        RemoveSweepJournals(sweep_options.journal_path);
+      }
       summary.maps_path = path;
     }
     return stored;
@@ -456,21 +469,22 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
   // The DDEM bound kn/(Ep l) at rho(B) = max, at the maps' nu_p: on the map specimen for the
   // design's box, on the real specimens (both) for the calibration.
   auto admissible_on_real = [&](double nu_p) {
-    return std::min(AdmissibleParticleCompliance<Dim>(specimens.ucs, reference_kn, target.density_kg_per_m3, nu_p,
+    return OnRankZero([&] { return std::min(AdmissibleParticleCompliance<Dim>(specimens.ucs, reference_kn, target.density_kg_per_m3, nu_p,
                                                       plane_model, options.max_spectral_radius, options.bond_range),
                     AdmissibleParticleCompliance<Dim>(specimens.bts, reference_kn, target.density_kg_per_m3, nu_p,
-                                                      plane_model, options.max_spectral_radius, options.bond_range));
+                                                      plane_model, options.max_spectral_radius, options.bond_range)); });
   };
   auto deformable_design = [&]() {
     if (!options.deformable_design.axes.empty()) return options.deformable_design;
     // Both map specimens run every point: the bound of either may be the lower one.
-    const double bound =
-        std::min(AdmissibleParticleCompliance<Dim>(specimens.sweep_ucs, reference_kn, target.density_kg_per_m3,
-                                                   options.particle_poisson_ratio, plane_model,
-                                                   options.max_spectral_radius, options.bond_range),
-                 AdmissibleParticleCompliance<Dim>(specimens.sweep_bts, reference_kn, target.density_kg_per_m3,
-                                                   options.particle_poisson_ratio, plane_model,
-                                                   options.max_spectral_radius, options.bond_range));
+    const double bound = OnRankZero([&] {
+      return std::min(AdmissibleParticleCompliance<Dim>(specimens.sweep_ucs, reference_kn, target.density_kg_per_m3,
+                                                        options.particle_poisson_ratio, plane_model,
+                                                        options.max_spectral_radius, options.bond_range),
+                      AdmissibleParticleCompliance<Dim>(specimens.sweep_bts, reference_kn, target.density_kg_per_m3,
+                                                        options.particle_poisson_ratio, plane_model,
+                                                        options.max_spectral_radius, options.bond_range));
+    });
     SweepDesign d = WithLevels(
         DefaultSweepDesign(true, options.particle_poisson_ratio, bound, options.friction_coefficient),
         options.sweep_levels);
@@ -648,6 +662,7 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
   if (has_result) {
     summary.final_ucs = best->ucs;
     summary.final_bts = best->bts;
+    summary.final_bts_rank = best->bts_rank;
   }
   summary.notes.push_back(solution.reach.Describe(target));
   for (const std::string& note : solution.notes) summary.notes.push_back(note);
@@ -689,11 +704,18 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
       kept.push_back(v);
     }
     summary.maps.verified = kept;
-    if (!summary.maps_path.empty() && options.maps_file.empty()) SaveStoredMaps(summary.maps, summary.maps_path);
+    if (!summary.maps_path.empty() && options.maps_file.empty() && Rank() == 0)
+      SaveStoredMaps(summary.maps, summary.maps_path);
   }
 
   // --- 5. Stability of the final set ----------------------------------------------------
-  if (!has_result) {
+  // On rank 0, which holds the final UCS test and writes the outputs (ranks.h); the others
+  // leave it unjudged.
+  if (Rank() != 0) {
+    summary.stability_verdict = "not judged";
+    summary.stability_binding_limit = "-";
+    summary.stability_message = "judged on rank 0";
+  } else if (!has_result) {
     summary.stability_verdict = "not judged";
     summary.stability_binding_limit = "-";
     summary.stability_message = "no strength round measured: no final set";

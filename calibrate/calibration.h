@@ -108,7 +108,8 @@ struct CalibrationOptions {
   // gamma of every map and round: bonds within gamma (ri + rj) (solver/bond_range.h), [1, 1.5].
   // Above 1 it raises sigma_c / sigma_t of bonded spheres (docs/calibration.md, "Reach").
   double bond_range = 1.0;
-  int workers = 0;                       // sweep points at once; 0 = hardware threads
+  // Sweep points (and elastic runs) at once on each rank; 0 = hardware threads.
+  int workers = 0;
 
   // --- Protocol of every test (kind, progress set per test). Density scaling is on. ---
   LabTestOptions test;
@@ -179,8 +180,10 @@ struct CalibrationSummary {
   std::string stability_verdict, stability_binding_limit, stability_message;
   double stability_margin_percent = 0.0;
   double critical_time_step_s = 0.0, time_step_s = 0.0, spectral_radius = 0.0;
-  // The tests of the best round (for the outputs).
+  // The tests of the best round (for the outputs). With several ranks (common/ranks.h) the
+  // Brazilian test ran on rank 1, which holds it and writes its outputs (final_bts_rank).
   LabTestResult final_ucs, final_bts;
+  int final_bts_rank = 0;
   std::vector<std::string> notes;
   double seconds = 0.0;
 

@@ -11,6 +11,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/plot.h"
+#include "common/ranks.h"
 #include "generator/packing_io.h"
 #include "lab/lab_outputs.h"
 #include "specimen_version.h"
@@ -229,6 +230,25 @@ std::string ConvergenceScript(const CalibrationSummary& summary, const Calibrati
 
 }  // namespace
 
+namespace {
+
+// One final verification test's files, as run-test writes them.
+template <int Dim>
+void WriteFinalTestOutputs(const LabTestResult& result, const Packing<Dim>& specimen, const std::string& suffix,
+                           const CalibrationOutputOptions& output, CalibrationOutputsWritten* written) {
+  LabOutputOptions lab;
+  lab.directory = output.directory;
+  lab.name = output.name + suffix;
+  lab.pictures = output.pictures;
+  lab.snapshots = true;
+  const nlohmann::json report = {{"calibration", output.name + "_report.json"}};
+  const LabOutputsWritten w = WriteLabOutputs<Dim>(result, specimen, report, lab);
+  written->files.insert(written->files.end(), w.files.begin(), w.files.end());
+  written->warnings.insert(written->warnings.end(), w.warnings.begin(), w.warnings.end());
+}
+
+}  // namespace
+
 void CheckCalibrationOutputLocation(const CalibrationOutputOptions& options) {
   if (std::string rule; !IsValidOutputName(options.name, &rule))
     throw InputError("output name '" + options.name + "' is not allowed: " + rule);
@@ -315,18 +335,12 @@ CalibrationOutputsWritten WriteCalibrationOutputs(const CalibrationSummary& summ
   group.Add(base + "_reach.csv", [&](std::ostream& out) { WriteReachCsv(summary, out); });
   for (const std::string& f : group.Commit()) written.files.push_back(f);
 
-  // The final verification tests, as run-test writes them.
-  for (int k = 0; k < (has_result ? 2 : 0); ++k) {
-    LabOutputOptions lab;
-    lab.directory = output.directory;
-    lab.name = output.name + (k == 0 ? "_verify_ucs" : "_verify_bts");
-    lab.pictures = output.pictures;
-    lab.snapshots = true;
-    const nlohmann::json report = {{"calibration", output.name + "_report.json"}};
-    const LabOutputsWritten w = k == 0 ? WriteLabOutputs<Dim>(summary.final_ucs, specimens.ucs, report, lab)
-                                       : WriteLabOutputs<Dim>(summary.final_bts, specimens.bts, report, lab);
-    written.files.insert(written.files.end(), w.files.begin(), w.files.end());
-    written.warnings.insert(written.warnings.end(), w.warnings.begin(), w.warnings.end());
+  // The final verification tests, as run-test writes them (the Brazilian test by the rank
+  // that holds it).
+  if (has_result) {
+    WriteFinalTestOutputs<Dim>(summary.final_ucs, specimens.ucs, "_verify_ucs", output, &written);
+    if (summary.final_bts_rank == Rank())
+      WriteFinalTestOutputs<Dim>(summary.final_bts, specimens.bts, "_verify_bts", output, &written);
   }
 
   if (output.pictures) {
@@ -351,6 +365,22 @@ CalibrationOutputsWritten WriteCalibrationOutputs(const CalibrationSummary& summ
   return written;
 }
 
+template <int Dim>
+CalibrationOutputsWritten WriteFinalBrazilianOutputs(const CalibrationSummary& summary,
+                                                     const CalibrationSpecimens<Dim>& specimens,
+                                                     const CalibrationOutputOptions& output) {
+  CalibrationOutputsWritten written;
+  if (summary.best_round >= 1)
+    WriteFinalTestOutputs<Dim>(summary.final_bts, specimens.bts, "_verify_bts", output, &written);
+  return written;
+}
+
+template CalibrationOutputsWritten WriteFinalBrazilianOutputs<2>(const CalibrationSummary&,
+                                                                 const CalibrationSpecimens<2>&,
+                                                                 const CalibrationOutputOptions&);
+template CalibrationOutputsWritten WriteFinalBrazilianOutputs<3>(const CalibrationSummary&,
+                                                                 const CalibrationSpecimens<3>&,
+                                                                 const CalibrationOutputOptions&);
 template CalibrationOutputsWritten WriteCalibrationOutputs<2>(const CalibrationSummary&, const CalibrationSpecimens<2>&,
                                                               const CalibrationOptions&, const CalibrationOutputOptions&);
 template CalibrationOutputsWritten WriteCalibrationOutputs<3>(const CalibrationSummary&, const CalibrationSpecimens<3>&,

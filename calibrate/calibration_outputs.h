@@ -52,4 +52,12 @@ CalibrationOutputsWritten WriteCalibrationOutputs(const CalibrationSummary& summ
                                                   const CalibrationOptions& options,
                                                   const CalibrationOutputOptions& output);
 
+// The own outputs of the best round's Brazilian test (<name>_verify_bts*, as run-test writes
+// them), on the rank that ran it when it is not rank 0 (summary.final_bts_rank);
+// WriteCalibrationOutputs writes them when it holds the test. Nothing without a result.
+template <int Dim>
+CalibrationOutputsWritten WriteFinalBrazilianOutputs(const CalibrationSummary& summary,
+                                                     const CalibrationSpecimens<Dim>& specimens,
+                                                     const CalibrationOutputOptions& output);
+
 }  // namespace specimen

@@ -6,6 +6,11 @@
 //  - Strength rounds: the UCS and the Brazilian test at once, one solver thread each, as the
 //    map sweep runs them.
 //
+// Under mpirun (common/ranks.h) every rank calls the same measurements: the elastic runs of a
+// batch are split over the ranks (run k on rank k % N) and gathered, and a strength round
+// runs its UCS on rank 0 and its Brazilian test on rank 1; every rank gets the same
+// measurements (so its calibrator takes the same steps).
+//
 //   LabForwardModel<2> model(specimens.ucs, specimens.bts, settings);
 //   ElasticMeasurement e = model.MeasureElastic({{kn, ratios}}).front();
 
@@ -43,9 +48,13 @@ class LabForwardModel : public ForwardModel {
 
   // The tests of every strength round so far, in order (for the outputs of the best one); a
   // round whose test failed is kept with its failure (MeasureStrength threw it).
+  // With several ranks a rank holds only the test it ran: rank 0 the UCS, rank bts_rank (1)
+  // the Brazilian test (whose outputs it writes: a LabTestResult carries the curve, the
+  // broken bonds and two snapshots of every particle, which are not sent).
   struct RoundTests {
     MaterialParameters material;
     LabTestResult ucs, bts;
+    int bts_rank = 0;
     std::string failure;  // empty when both tests measured their strength
   };
   const std::vector<RoundTests>& strength_tests() const { return strength_tests_; }

@@ -2,10 +2,14 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <cstdlib>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <mutex>
 #include <set>
@@ -18,6 +22,7 @@
 #include "calibrate/intact_elastic.h"
 #include "generator/metrics.h"
 #include "common/format.h"
+#include "common/ranks.h"
 
 namespace specimen {
 namespace {
@@ -302,6 +307,70 @@ MapSweep RunMapSweep(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts_pa
   return RunSweepPoints<Dim>(ucs_packing, bts_packing, design.Points(), options);
 }
 
+namespace {
+
+// The journal a rank appends to: rank 0 the sweep's own (the file of a run without MPI),
+// rank r > 0 "<journal>.rank<r>" beside it, so that two ranks never write one file.
+std::string RankJournalPath(const std::string& journal, int rank) {
+  return rank == 0 ? journal : journal + ".rank" + std::to_string(rank);
+}
+
+// The sweep's journal and every rank journal beside it (of this run, or of a run with more
+// ranks that was killed).
+std::vector<std::string> JournalFiles(const std::string& journal) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> files = {journal};
+  const fs::path path(journal);
+  const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  const std::string prefix = path.filename().string() + ".rank";
+  std::error_code error;
+  std::vector<std::string> ranks;
+  for (const auto& entry : fs::directory_iterator(directory, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0 &&
+        name.find_first_not_of("0123456789", prefix.size()) == std::string::npos)
+      ranks.push_back(entry.path().string());
+  }
+  std::sort(ranks.begin(), ranks.end());  // the same order on every machine
+  files.insert(files.end(), ranks.begin(), ranks.end());
+  return files;
+}
+
+// Opens this rank's journal for appending (a FileError now rather than after the first
+// point); a torn last line (a kill mid-write) is ended, so that the next line stays whole.
+void PrepareJournal(const std::string& path) {
+  {
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    if (in && in.tellg() > 0) {
+      in.seekg(-1, std::ios::end);
+      char last = '\n';
+      in.get(last);
+      in.close();
+      if (last != '\n') AppendJournalLine(path, "");
+    }
+  }
+  std::ofstream probe(path, std::ios::app);
+  if (!probe) throw FileError("cannot write the sweep journal " + path);
+}
+
+// Test hook of the resume test (tests/tools/mpi_sweep_test.py): "RANK:COUNT" makes that rank
+// end at once, as a killed process would, after journaling COUNT points.
+int ExitAfterPoints(int rank) {
+  const char* hook = std::getenv("SPECIMEN_TEST_SWEEP_EXIT");
+  int hook_rank = -1, count = 0;
+  if (!hook || std::sscanf(hook, "%d:%d", &hook_rank, &count) != 2 || hook_rank != rank) return -1;
+  return count;
+}
+
+// A failure that stops the sweep, carried between ranks as data: every rank joins the
+// exchange of results and then throws the same error.
+struct SweepStop {
+  std::string message;  // empty: none
+  bool file = false;    // FileError, else the sweep's own failure
+};
+
+}  // namespace
+
 template <int Dim>
 MapSweep RunSweepPoints(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts_packing,
                         const std::vector<MicroRatios>& grid, const MapSweepOptions& options) {
@@ -309,6 +378,7 @@ MapSweep RunSweepPoints(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts
   if (!options.IsValid(&error)) throw InputError(error);
   if (grid.empty()) throw InputError("map sweep: no point to run");
   const auto start = std::chrono::steady_clock::now();
+  const int rank = Rank(), ranks = RankCount();
 
   MapSweep sweep;
   sweep.ucs_descriptors = Describe(ucs_packing);
@@ -317,32 +387,55 @@ MapSweep RunSweepPoints(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts
   sweep.points.resize(grid.size());
   std::vector<bool> done(grid.size(), false);
 
+  // Resume: rank 0 reads the journal and the rank journals, and sends what it found to every
+  // rank, so that every rank splits the same pending list (whatever each one's view of the
+  // file system).
   const std::string key = SweepKey(grid, options);
-  if (!options.journal_path.empty()) {
-    for (const SweepPoint& p : ReadJournal(options.journal_path, key))
+  const bool journaled = !options.journal_path.empty();
+  if (journaled) {
+    nlohmann::json resumed = nlohmann::json::array();
+    if (rank == 0)
+      for (const std::string& file : JournalFiles(options.journal_path))
+        for (const SweepPoint& p : ReadJournal(file, key)) resumed.push_back(p.ToJson());
+    resumed = nlohmann::json::parse(Broadcast(resumed.dump()));
+    for (const nlohmann::json& j : resumed) {
+      const SweepPoint p = SweepPoint::FromJson(j);
       if (p.index >= 0 && p.index < static_cast<int>(grid.size()) && !done[p.index]) {
         sweep.points[p.index] = p;
         done[p.index] = true;
         ++sweep.resumed_points;
       }
-    // Fail now rather than after the first point if the journal cannot be written.
-    std::ofstream probe(options.journal_path, std::ios::app);
-    if (!probe) throw FileError("cannot write the sweep journal " + options.journal_path);
+    }
+  }
+  const std::string journal = journaled ? RankJournalPath(options.journal_path, rank) : std::string();
+  SweepStop stop;
+  try {
+    if (journaled) PrepareJournal(journal);
+  } catch (const FileError& e) {
+    stop = {std::string(e.what()) + (ranks > 1 ? " (on rank " + std::to_string(rank) + ")" : ""), true};
   }
 
-  std::vector<int> pending;
+  // Point k of the pending list runs on rank k % N: known in advance, the same on every rank,
+  // and each point's result depends only on the point (one solver thread per test), so the
+  // sweep is the same whatever N.
+  std::vector<int> pending, mine;
   for (int i = 0; i < static_cast<int>(grid.size()); ++i)
     if (!done[i]) pending.push_back(i);
+  for (size_t k = 0; k < pending.size(); ++k)
+    if (static_cast<int>(k % ranks) == rank) mine.push_back(pending[k]);
 
   std::atomic<int> next{0};
-  std::atomic<int> finished{sweep.resumed_points};
-  std::mutex mutex;  // journal, progress and the first fatal error
-  std::string fatal;
-  bool fatal_is_file = false;  // else the sweep's own failure: its points and specimens are chosen for the user
+  std::mutex mutex;  // journal, the finished queue and the first error of this rank
+  std::condition_variable finished_signal;
+  std::vector<int> finished_queue;  // index * 2 + ok, for the main thread
+  int running_workers = 0;
+  int journaled_here = 0;
+  const int exit_after = ExitAfterPoints(rank);
   const int total = static_cast<int>(grid.size());
-  if (options.progress && !pending.empty())
-    options.progress(static_cast<double>(finished) / total, "map sweep: " + std::to_string(pending.size()) +
-                                                                " points to run");
+  if (options.progress && !pending.empty() && rank == 0)
+    options.progress(static_cast<double>(sweep.resumed_points) / total,
+                     "map sweep: " + std::to_string(pending.size()) + " points to run" +
+                         (ranks > 1 ? " on " + std::to_string(ranks) + " ranks" : ""));
 
   auto run_point = [&](int index) {
     SweepPoint p;
@@ -382,57 +475,127 @@ MapSweep RunSweepPoints(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts
     p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - point_start).count();
     std::lock_guard<std::mutex> lock(mutex);
     sweep.points[index] = p;
-    if (!options.journal_path.empty()) {
+    if (journaled) {
       nlohmann::json line = {{"design", key}, {"point", p.ToJson()}};
-      AppendJournalLine(options.journal_path, line.dump());
+      AppendJournalLine(journal, line.dump());
+      if (++journaled_here == exit_after) std::_Exit(9);
     }
-    const int count = ++finished;
-    if (options.progress) {
-      char message[160];
-      std::snprintf(message, sizeof(message), "map sweep: point %d of %d (kt/kn %.3g, Rt/Rn %.3g%s) %s",
-                    count, total, p.ratios.tangential_to_normal_stiffness, p.ratios.shear_to_tensile_strength,
-                    p.ratios.normal_stiffness_to_particle > 0
-                        ? (", kn/(Ep l) " + Number(p.ratios.normal_stiffness_to_particle)).c_str()
-                        : "",
-                    p.ok ? "done" : "failed");
-      options.progress(static_cast<double>(count) / total, message);
-    }
+    finished_queue.push_back(index * 2 + (p.ok ? 1 : 0));
+    finished_signal.notify_one();
   };
 
+  // The rank's first error that stops the sweep names the point (and the rank, with several).
+  auto describe_point = [&](int index) {
+    const MicroRatios& r = grid[index];
+    std::string text = "point " + std::to_string(index + 1) + " of " + std::to_string(total) + " (kt/kn " +
+                       Number(r.tangential_to_normal_stiffness) + ", Rt/Rn " + Number(r.shear_to_tensile_strength);
+    if (r.normal_stiffness_to_particle > 0) text += ", kn/(Ep l) " + Number(r.normal_stiffness_to_particle);
+    text += ")";
+    if (ranks > 1) text += " on rank " + std::to_string(rank);
+    return text;
+  };
   auto worker = [&]() {
     for (;;) {
       const int k = next++;
-      if (k >= static_cast<int>(pending.size())) return;
+      if (k >= static_cast<int>(mine.size())) break;
       {
         std::lock_guard<std::mutex> lock(mutex);
-        if (!fatal.empty()) return;
+        if (!stop.message.empty()) break;
       }
       try {
-        run_point(pending[k]);
+        run_point(mine[k]);
       } catch (const std::exception& e) {  // input or file errors stop the sweep
         std::lock_guard<std::mutex> lock(mutex);
-        if (fatal.empty()) {
-          fatal = e.what();
-          fatal_is_file = dynamic_cast<const FileError*>(&e) != nullptr;
-        }
-        return;
+        if (stop.message.empty())
+          stop = {describe_point(mine[k]) + ": " + e.what(), dynamic_cast<const FileError*>(&e) != nullptr};
+        break;
       }
     }
+    std::lock_guard<std::mutex> lock(mutex);
+    --running_workers;
+    finished_signal.notify_one();
   };
-  const int workers = std::min<int>(options.workers, static_cast<int>(pending.size()));
+
+  // Workers run the points; this (the MPI) thread reports: rank 0 counts its own points and
+  // the notes of the other ranks (points done out of the total across ranks), the others
+  // send a note per finished point and one (-1) when their share is done.
+  auto report = [&](int count, int index, bool ok, int on_rank) {
+    if (!options.progress) return;
+    const MicroRatios& r = grid[index];
+    char message[200];
+    std::snprintf(message, sizeof(message), "map sweep: point %d of %d (kt/kn %.3g, Rt/Rn %.3g%s) %s%s", count, total,
+                  r.tangential_to_normal_stiffness, r.shear_to_tensile_strength,
+                  r.normal_stiffness_to_particle > 0 ? (", kn/(Ep l) " + Number(r.normal_stiffness_to_particle)).c_str()
+                                                     : "",
+                  ok ? "done" : "failed", ranks > 1 ? (" (rank " + std::to_string(on_rank) + ")").c_str() : "");
+    options.progress(static_cast<double>(count) / total, message);
+  };
+  const int workers = stop.message.empty() ? std::min<int>(options.workers, static_cast<int>(mine.size())) : 0;
+  running_workers = workers;
   std::vector<std::thread> threads;
-  for (int w = 1; w < workers; ++w) threads.emplace_back(worker);
-  if (workers >= 1) worker();
+  for (int w = 0; w < workers; ++w) threads.emplace_back(worker);
+  int count = sweep.resumed_points;
+  int ranks_done = 1;  // rank 0: the ranks whose share is done (itself once its workers are)
+  bool own_done = false;
+  for (;;) {
+    std::vector<int> events;
+    bool workers_done = false;
+    {
+      std::unique_lock<std::mutex> lock(mutex);
+      auto ready = [&] { return !finished_queue.empty() || running_workers == 0; };
+      if (ranks == 1) finished_signal.wait(lock, ready);
+      else finished_signal.wait_for(lock, std::chrono::milliseconds(20), ready);
+      events.swap(finished_queue);
+      workers_done = running_workers == 0;
+    }
+    for (int e : events) {
+      if (rank == 0) report(++count, e / 2, e % 2 == 1, 0);
+      else SendNoteToRoot(e);
+    }
+    if (workers_done && !own_done) {
+      own_done = true;
+      if (rank > 0) SendNoteToRoot(-1);
+    }
+    for (const RankNote& note : ReceiveNotes()) {
+      if (note.value < 0) ++ranks_done;
+      else report(++count, note.value / 2, note.value % 2 == 1, note.rank);
+    }
+    if (own_done && (rank > 0 || ranks_done == ranks)) break;
+  }
   for (auto& t : threads) t.join();
-  if (!fatal.empty() && fatal_is_file) throw FileError("map sweep stopped: " + fatal);
-  if (!fatal.empty())
+  CompleteNotes();
+
+  // Every rank's points (and its stop, if any) to every rank: the same sweep, the same fit.
+  if (ranks > 1) {
+    nlohmann::json share = {{"points", nlohmann::json::array()}, {"stop", stop.message}, {"file", stop.file}};
+    for (int index : mine)
+      if (sweep.points[index].index == index) share["points"].push_back(sweep.points[index].ToJson());
+    stop = SweepStop();
+    for (const std::string& text : AllGather(share.dump())) {
+      const nlohmann::json other = nlohmann::json::parse(text);
+      for (const nlohmann::json& j : other.at("points")) {
+        const SweepPoint p = SweepPoint::FromJson(j);
+        sweep.points.at(p.index) = p;
+      }
+      if (stop.message.empty()) stop = {other.at("stop").get<std::string>(), other.at("file").get<bool>()};
+    }
+  }
+  if (!stop.message.empty() && stop.file) throw FileError("map sweep stopped: " + stop.message);
+  if (!stop.message.empty())
     throw ComputationError("map sweep stopped on its specimens (UCS " + std::to_string(ucs_packing.size()) +
-                     " particles, Brazilian " + std::to_string(bts_packing.size()) + "): " + fatal +
+                     " particles, Brazilian " + std::to_string(bts_packing.size()) + "): " + stop.message +
                      " (larger map specimens: more particles or a larger sweep share)");
 
   for (const SweepPoint& p : sweep.points) sweep.failed_points += p.ok ? 0 : 1;
   sweep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return sweep;
+}
+
+void RemoveSweepJournals(const std::string& journal_path) {
+  if (journal_path.empty()) return;
+  // Test hook (tests/tools/mpi_sweep_test.py): keep them to count the points each run finished.
+  if (std::getenv("SPECIMEN_TEST_KEEP_JOURNALS")) return;
+  for (const std::string& file : JournalFiles(journal_path)) std::filesystem::remove(file);
 }
 
 MapSet FitMaps(const MapSweep& sweep, const SweepDesign& design, int max_total_degree) {

@@ -15,6 +15,11 @@
 // Points run in parallel, one solver thread each; each finished point is appended to the
 // journal (one JSON line, flushed and synced) before the next starts, so a sweep killed at
 // any moment loses at most the points in flight.
+//
+// Under mpirun (common/ranks.h) the pending points are split over the ranks (point k of the
+// pending list on rank k % N), each rank running its share on its own `workers` threads and
+// journaling to its own file (rank 0 the journal, rank r "<journal>.rank<r>"); a resume reads
+// them all; at the end every rank has every point (the same maps whatever N, bit for bit).
 
 #include <Eigen/Core>
 #include <string>
@@ -116,7 +121,7 @@ struct MapSweepOptions {
   PlaneModel plane_model = PlaneModel::kPlaneStrain;
   // The protocol of both tests (kind and progress are set per test).
   LabTestOptions test;
-  // Points run at once (one solver thread each), >= 1.
+  // Points run at once on each rank (one solver thread each), >= 1.
   int workers = 2;
   // Journal of finished points (JSON lines); empty: none. Points already in it (same
   // design) are not run again.
@@ -148,6 +153,9 @@ MaterialParameters MaterialAt(const MicroRatios& ratios, double normal_stiffness
 
 // Runs (or resumes) the sweep. Throws InputError for invalid designs or options, FileError
 // when the journal cannot be written. A point whose simulation fails is kept with ok = false.
+// With several ranks every rank calls it with the same arguments; a rank whose point throws
+// lets the others finish theirs, then every rank throws the same error, naming the point and
+// the rank; progress is reported on rank 0 only, counting the points of every rank.
 template <int Dim>
 MapSweep RunMapSweep(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts_packing,
                      const SweepDesign& design, const MapSweepOptions& options);
@@ -157,6 +165,10 @@ MapSweep RunMapSweep(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts_pa
 template <int Dim>
 MapSweep RunSweepPoints(const Packing<Dim>& ucs_packing, const Packing<Dim>& bts_packing,
                         const std::vector<MicroRatios>& points, const MapSweepOptions& options);
+
+// Removes the journal of a finished sweep and the rank journals beside it (one process: rank
+// 0 when distributed).
+void RemoveSweepJournals(const std::string& journal_path);
 
 // Fits the four surfaces (nu, Psi_E, Psi_c, Psi_t) over the design's inputs from the
 // points that succeeded; InputError if too few did. max_total_degree as ResponseSurface.

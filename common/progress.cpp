@@ -2,12 +2,14 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 
 namespace specimen {
 
-TerminalProgress::TerminalProgress(bool quiet)
-    : enabled_(!quiet && isatty(STDERR_FILENO)),
+TerminalProgress::TerminalProgress(bool quiet, bool lines)
+    : enabled_(!quiet && (lines || isatty(STDERR_FILENO))),
+      lines_(lines && !isatty(STDERR_FILENO)),
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_ - std::chrono::seconds(1)) {}
 
@@ -16,6 +18,16 @@ TerminalProgress::~TerminalProgress() { Finish(); }
 void TerminalProgress::Update(double fraction, const std::string& message) {
   if (!enabled_) return;
   const auto now = std::chrono::steady_clock::now();
+  if (lines_) {
+    if (std::abs(fraction - last_fraction_) < 0.02 && fraction < 1.0 && now - last_draw_ < std::chrono::seconds(10)) return;
+    last_draw_ = now;
+    last_fraction_ = fraction;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    if (fraction < 0) std::fprintf(stderr, "[%7.1f s] %s\n", elapsed, message.c_str());
+    else std::fprintf(stderr, "[%7.1f s] %3.0f%%  %s\n", elapsed, 100.0 * fraction, message.c_str());
+    std::fflush(stderr);
+    return;
+  }
   // At most ten redraws a second: drawing must never slow the work down.
   if (now - last_draw_ < std::chrono::milliseconds(100) && fraction < 1.0) return;
   last_draw_ = now;
@@ -34,7 +46,7 @@ void TerminalProgress::Update(double fraction, const std::string& message) {
 }
 
 void TerminalProgress::Finish() {
-  if (enabled_ && drawn_) {
+  if (enabled_ && drawn_ && !lines_) {
     std::fprintf(stderr, "\r\033[K");
     std::fflush(stderr);
   }

@@ -14,8 +14,11 @@ using ProgressCallback = std::function<void(double fraction, const std::string& 
 
 class TerminalProgress {
  public:
-  // quiet: never draw. Otherwise draws only when stderr is a terminal.
-  explicit TerminalProgress(bool quiet);
+  // quiet: never draw. Otherwise draws only when stderr is a terminal, or, with `lines`,
+  // prints lines (rank 0 of an MPI run, whose stderr mpirun forwards through a pipe): one
+  // each time the fraction has moved by 2 % (each point of a sweep of up to 50; a new
+  // stage starting again from 0), at least every 10 s.
+  explicit TerminalProgress(bool quiet, bool lines = false);
   ~TerminalProgress();
 
   void Update(double fraction, const std::string& message);
@@ -26,7 +29,9 @@ class TerminalProgress {
 
  private:
   bool enabled_;
+  bool lines_;
   bool drawn_ = false;
+  double last_fraction_ = -1.0;
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_draw_;
 };

@@ -12,6 +12,12 @@
 //    when every property is met, 4 when one is out of reach (the report says which, and
 //    what is reachable), the budget was spent or every strength round failed (a failed
 //    round is reported and the loop goes on without it).
+//
+// Under mpirun (common/ranks.h; docs/calibration.md, "On a cluster"): every rank runs this
+// program on the same inputs; the sweep points, the elastic runs and the two tests of a
+// strength round are split over the ranks, each with --threads threads. Rank 0 generates the
+// specimens (and sends them), prints, and writes every file but the other ranks' sweep
+// journals and the final Brazilian test's own outputs (written by the rank that ran it).
 
 #include <CLI/CLI.hpp>
 
@@ -19,6 +25,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <sstream>
 #include <string>
 
 #include "calibrate/calibration.h"
@@ -29,6 +36,7 @@
 #include "common/atomic_file.h"
 #include "common/format.h"
 #include "common/progress.h"
+#include "common/ranks.h"
 #include "generator/packing_io.h"
 #include "lab/lab_specimen.h"
 #include "specimen_version.h"
@@ -50,7 +58,7 @@ struct CommandLine {
   std::optional<std::string> maps_directory;  // default: DefaultMapsDirectory()
   std::string maps_file;
   bool no_reuse = false;
-  int workers = 0;
+  int threads = 0;
   int rounds = 6;
   double max_spectral_radius = 0.9;
   double particle_poisson_ratio = 0.45;
@@ -74,7 +82,7 @@ const FieldNames kOptionNames = {
     {"bond_range", "--bond-range"},
     {"loading_rate_group", "--rate-group"},
     {"sweep_levels", "--sweep-levels"},
-    {"workers", "--workers"},
+    {"workers", "--threads"},
     {"ucs_particles", "--count"},
     {"radius_ratio", "--radius-ratio"},
     {"output name", "--name"},
@@ -102,6 +110,45 @@ void CheckMapLocations(const std::string& file, const std::string& directory) {
     throw FileError("--maps-dir: '" + directory + "' exists and is not a directory");
 }
 
+// Generated specimens: on rank 0, sent to the others in the packing file format (exact
+// decimals, generator/packing_io.h), so that every rank runs its tests on the same particles
+// (the generator's threads need not give the same bits in another process).
+template <int Dim>
+CalibrationSpecimens<Dim> GenerateOnRankZero(const SpecimenPlan<Dim>& plan) {
+  if (!Distributed()) return MakeCalibrationSpecimens<Dim>(plan);
+  nlohmann::json text;
+  if (Rank() == 0) {
+    const CalibrationSpecimens<Dim> made = MakeCalibrationSpecimens<Dim>(plan);
+    auto write = [](const Packing<Dim>& p) {
+      std::ostringstream out;
+      WritePacking<Dim>(p, out);
+      return out.str();
+    };
+    text = {{"ucs", write(made.ucs)}, {"bts", write(made.bts)}, {"sweep_ucs", write(made.sweep_ucs)},
+            {"sweep_bts", write(made.sweep_bts)}, {"description", made.description}};
+  }
+  text = nlohmann::json::parse(Broadcast(text.dump()));
+  // Rank 0 reads them back too: every rank holds what the text says, bit for bit.
+  auto read = [&](const char* which) {
+    std::istringstream in(text.at(which).get<std::string>());
+    return ReadPacking<Dim>(in, std::string("generated ") + which + " specimen");
+  };
+  CalibrationSpecimens<Dim> s(read("ucs"), read("bts"), read("sweep_ucs"), read("sweep_bts"));
+  s.description = text.at("description").get<std::string>();
+  return s;
+}
+
+void PrintCalibration(const CalibrationSummary& summary, const std::string& specimens,
+                      const CalibrationOutputsWritten& written) {
+  std::cout << "specimens: " << specimens << "\n\n";
+  std::cout << summary.FullReport() << "\n" << summary.BriefReport() << "\n";
+  std::cout << "files:\n";
+  for (const auto& file : written.files) std::cout << "  " << file << "\n";
+  for (const auto& warning : written.warnings) std::cerr << "warning: " << warning << "\n";
+  for (const VerificationRound& v : summary.rounds)
+    if (v.failed) std::cerr << "warning: strength round " << v.round << " failed: " << v.failure << "\n";
+}
+
 template <int Dim>
 int Run(const TargetMaterial& target, CalibrationOptions options, const CommandLine& cl) {
   // Outputs are checked before hours of work.
@@ -109,9 +156,10 @@ int Run(const TargetMaterial& target, CalibrationOptions options, const CommandL
   output.directory = cl.output;
   output.name = cl.name;
   output.pictures = !cl.no_pictures;
-  CheckCalibrationOutputLocation(output);
+  if (Rank() == 0) CheckCalibrationOutputLocation(output);
 
-  TerminalProgress progress(cl.quiet);
+  // Progress on rank 0 only (in lines under mpirun, whose pipes are no terminal).
+  TerminalProgress progress(cl.quiet || Rank() != 0, Distributed());
   options.progress = progress.Callback();
   auto specimens = [&]() {
     if (!cl.packing.empty()) {
@@ -134,24 +182,34 @@ int Run(const TargetMaterial& target, CalibrationOptions options, const CommandL
     plan.seed = static_cast<std::uint64_t>(cl.seed);
     plan.radius_ratio = cl.radius_ratio;
     plan.progress = options.progress;
-    return MakeCalibrationSpecimens<Dim>(plan);
+    return GenerateOnRankZero<Dim>(plan);
   }();
   const CalibrationSummary summary = CalibrateToMaterial<Dim>(specimens, target, options);
   progress.Finish();
-  const CalibrationOutputsWritten written = WriteCalibrationOutputs<Dim>(summary, specimens, options, output);
-  std::cout << "specimens: " << specimens.description << "\n\n";
-  std::cout << summary.FullReport() << "\n" << summary.BriefReport() << "\n";
-  std::cout << "files:\n";
-  for (const auto& file : written.files) std::cout << "  " << file << "\n";
-  for (const auto& warning : written.warnings) std::cerr << "warning: " << warning << "\n";
-  for (const VerificationRound& v : summary.rounds)
-    if (v.failed) std::cerr << "warning: strength round " << v.round << " failed: " << v.failure << "\n";
+  CalibrationOutputsWritten written;
+  if (Rank() == 0) written = WriteCalibrationOutputs<Dim>(summary, specimens, options, output);
+  else if (summary.final_bts_rank == Rank()) written = WriteFinalBrazilianOutputs<Dim>(summary, specimens, output);
+  if (Distributed()) {  // the files of every rank, listed by rank 0
+    nlohmann::json mine = {{"files", written.files}, {"warnings", written.warnings}};
+    written = CalibrationOutputsWritten();
+    for (const std::string& text : AllGather(mine.dump())) {
+      const nlohmann::json j = nlohmann::json::parse(text);
+      for (const auto& f : j.at("files")) written.files.push_back(f.get<std::string>());
+      for (const auto& w : j.at("warnings")) written.warnings.push_back(w.get<std::string>());
+    }
+  }
+  // The same outcome on every rank (the same measurements, the same decisions): the others
+  // leave the report to rank 0 and end with the same status.
+  if (Rank() == 0) PrintCalibration(summary, specimens.description, written);
   if (summary.best_round < 1) {
-    std::cerr << "calibrate-to-material: no strength round measured anything (every one failed; the report "
-                 "gives each failure and its parameters)\n";
+    if (Rank() == 0)
+      std::cerr << "calibrate-to-material: no strength round measured anything (every one failed; the report "
+                   "gives each failure and its parameters)\n";
     return kExitComputation;
   }
+  if (Rank() != 0) return summary.gave_up || !summary.converged ? kExitComputation : kExitOk;
   if (summary.gave_up) {
+
     std::cerr << "calibrate-to-material: the target is out of reach on this specimen; given up:";
     for (const std::string& g : summary.solution.reach.given_up) std::cerr << " " << g;
     std::cerr << " (the report gives the reachable intervals and the nearest reachable point)\n";
@@ -249,6 +307,7 @@ int RunLattice(const TargetMaterial& target, const CommandLine& cl) {
 
 int main(int argc, char** argv) {
   using namespace specimen;
+  RankSession ranks(&argc, &argv);
   CLI::App app{"calibrate-to-material: contact parameters of a bonded DEM/DDEM model for a target rock, "
                "from maps of virtual UCS and Brazilian tests, verified by running them"};
   CommandLine cl;
@@ -272,7 +331,8 @@ int main(int argc, char** argv) {
                  "of the source tree: the shipped maps)");
   app.add_option("--maps", cl.maps_file, "use this map file (must have been built for an equivalent packing)");
   app.add_flag("--no-reuse", cl.no_reuse, "build the maps again even if stored ones match");
-  app.add_option("--workers", cl.workers, "sweep points run at once, default: hardware threads");
+  app.add_option("--threads,--workers", cl.threads,
+                 "sweep points (and elastic runs) at once on each rank, default: hardware threads");
   app.add_option("--rounds", cl.rounds, "strength rounds (UCS + BTS) at most, 1 to 20, default 6");
   app.add_option("--max-spectral-radius", cl.max_spectral_radius,
                  "bound on rho(B) of the DDEM iteration, in (0, 1), default 0.9");
@@ -292,7 +352,9 @@ int main(int argc, char** argv) {
   app.add_flag("--no-pictures", cl.no_pictures, "no PNG pictures (the CSV files are written)");
   app.add_flag("--quiet", cl.quiet, "no progress display");
   if (int status = 0; !ParseCommandLine(app, argc, argv, &status)) return status;
-  return RunCommand("calibrate-to-material", [&] {
+  // An error on one rank of several: the others may wait for it in an exchange, so the job
+  // ends with it (each rank's message names its rank).
+  auto body = [&]() -> int {
     if (cl.dimension != 2 && cl.dimension != 3)
       throw InputError("--dimension = " + std::to_string(cl.dimension) + ", allowed 2 or 3");
     const TargetMaterial target = LoadTargetMaterial(cl.material);
@@ -303,11 +365,14 @@ int main(int argc, char** argv) {
     if (cl.model == "lattice" || (target.orthotropic && cl.model == "auto")) {
       if (cl.dimension != 2) throw InputError("--model lattice: the six-spring lattice is 2D (--dimension 2)");
       // Settings of the bonded calibration that the lattice has no use for: refused, not ignored.
-      for (const char* option : {"--maps", "--maps-dir", "--no-reuse", "--workers", "--sweep-fraction",
+      for (const char* option : {"--maps", "--maps-dir", "--no-reuse", "--threads", "--sweep-fraction",
                                  "--sweep-levels", "--nu-p", "--friction", "--bond-range", "--max-spectral-radius",
                                  "--honour"})
         if (app.count(option) > 0)
           throw InputError(std::string(option) + " is a setting of the bonded calibration; --model lattice has no maps");
+      if (Distributed())
+        throw InputError("--model lattice runs in one process (its rounds are one test pair each): start it "
+                         "without mpirun");
       return RunLattice(target, cl);
     }
     CalibrationOptions options;
@@ -319,7 +384,7 @@ int main(int argc, char** argv) {
     options.maps_directory = cl.maps_directory.value_or(DefaultMapsDirectory());
     options.maps_file = cl.maps_file;
     options.reuse_maps = !cl.no_reuse;
-    options.workers = cl.workers;
+    options.workers = cl.threads;
     options.max_verification_rounds = cl.rounds;
     options.max_spectral_radius = cl.max_spectral_radius;
     options.particle_poisson_ratio = cl.particle_poisson_ratio;
@@ -340,5 +405,15 @@ int main(int argc, char** argv) {
     if (cl.seed < 0) throw InputError("--seed = " + std::to_string(cl.seed) + ", allowed >= 0");
     CheckMapLocations(options.maps_file, options.maps_directory);
     return cl.dimension == 2 ? Run<2>(target, options, cl) : Run<3>(target, options, cl);
+  };
+  bool failed = true;
+  const std::string program = Distributed() ? "calibrate-to-material (rank " + std::to_string(Rank()) + ")"
+                                            : "calibrate-to-material";
+  const int status = RunCommand(program, [&] {
+    const int body_status = body();
+    failed = false;
+    return body_status;
   }, kOptionNames);
+  if (failed) AbortAllRanks(status);
+  return status;
 }

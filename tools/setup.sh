@@ -12,6 +12,7 @@ packages=(
   googletest libgtest-dev
   libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
   gnuplot-nox python3 python3-vtk9 python3-numpy
+  libopenmpi-dev openmpi-bin
 )
 missing=()
 for p in "${packages[@]}"; do
