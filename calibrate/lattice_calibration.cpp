@@ -111,12 +111,22 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
   Eigen::Vector2d previous_p = Eigen::Vector2d::Zero(), previous_m = Eigen::Vector2d::Zero();
   const double tau_c = std::log1p(options.tolerance_ucs), tau_t = std::log1p(options.tolerance_tensile);
   int first_round_at_phi = 1, lowerings = 0;
+  bool ucs_on_tension = false;  // the UCS capped by the tension cut-off: stepped by sigma_t
   // The weighted error of a round: the UCS's, and sigma_t's unless it is given up.
   auto weighted_error = [&](const LatticeCalibrationRound& r) {
     return std::pow(std::log1p(r.error_ucs) / tau_c, 2) +
            (summary.tensile_capped ? 0.0 : std::pow(std::log1p(r.error_tensile) / tau_t, 2));
   };
   std::vector<LatticeMaterial> round_materials;
+  // Once sigma_t is given up the UCS alone is judged: every round re-ranked.
+  auto rerank = [&]() {
+    for (LatticeCalibrationRound& k : summary.rounds) k.weighted_error = weighted_error(k);
+    for (const LatticeCalibrationRound& k : summary.rounds)
+      if (k.weighted_error < summary.rounds[summary.best_round - 1].weighted_error) {
+        summary.best_round = k.round;
+        summary.material = round_materials[k.round - 1];
+      }
+  };
 
   for (int round = 1; round <= options.max_rounds; ++round) {
     const auto round_start = std::chrono::steady_clock::now();
@@ -169,15 +179,39 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
     // angle where that strength moved, clamped to [0.2, 1.5], else 1. A Brazilian strength
     // that no longer follows the triangles' sigma_t (a rise of 10 % or more moving it less
     // than 1 %) is capped by the shear limit at this friction angle.
-    bool capped_now = false;
+    // Likewise a UCS that no longer follows c (a rise of 10 % or more raising it by less than
+    // 1 %, or lowering it: the path noise of a capped peak) is capped by the tension cut-off: the specimen splits before the Mohr-Coulomb limit, and
+    // UCS / sigma_t cannot rise further at this sigma_t.
+    bool capped_now = false, ucs_capped_now = false;
     for (int k = 0; k < 2; ++k) {
       if (round > first_round_at_phi && std::abs(p[k] - previous_p[k]) > 1e-6) {
         const double slope = (m[k] - previous_m[k]) / (p[k] - previous_p[k]);
-        if (k == 1 && p[1] - previous_p[1] >= std::log(1.1) && std::abs(m[1] - previous_m[1]) < std::log(1.01) &&
-            !summary.tensile_capped)
-          capped_now = true;
+        const bool stalled = p[k] - previous_p[k] >= std::log(1.1) && std::abs(m[k] - previous_m[k]) < std::log(1.01);
+        if (k == 1 && stalled && !summary.tensile_capped) capped_now = true;
+        const bool not_rising = p[k] - previous_p[k] >= std::log(1.1) && m[k] - previous_m[k] < std::log(1.01);
+        if (k == 0 && not_rising && !ucs_on_tension) ucs_capped_now = true;
         slopes[k] = std::clamp(slope, 0.2, 1.5);
       }
+    }
+    if (ucs_capped_now) {
+      // The UCS is then reached through the triangles' sigma_t (slope 1: on the cut-off both
+      // strengths scale with it), c kept where it is; the Brazilian strength follows sigma_t
+      // too, so the target's sigma_t is given up (the UCS is honoured, as in the bonded
+      // calibration's default).
+      ucs_on_tension = true;
+      summary.tensile_capped = true;
+      summary.notes.push_back(
+          "round " + std::to_string(round) + ": the UCS stays at " + Format("%.4g", r.ucs_pa / 1e6) +
+          " MPa as c rises: the tension cut-off caps it (UCS / sigma_t " + Format("%.3g", r.ucs_pa / r.bts_pa) +
+          " at most, " + Format("%.3g", target.StrengthRatio()) +
+          " sought), so the UCS is reached through the triangles' sigma_t and sigma_t is given up");
+      rerank();
+      if (std::abs(r.error_ucs) <= options.tolerance_ucs) break;
+      previous_p = p;
+      previous_m = m;
+      p[1] += std::clamp(goal[0] - m[0], -std::log(3.0), std::log(3.0));
+      first_round_at_phi = round + 1;  // no secant across the switch
+      continue;
     }
     if (capped_now && friction_free && lowerings < kMaxFrictionLowerings && phi_deg > kLowestFrictionAngle + 0.5) {
       // A lower friction angle lowers the cap relative to the UCS (LowerFrictionAngle); c
@@ -208,14 +242,18 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
                                              : "the target's friction angle") +
                               "; sigma_t is given up");
       // The UCS alone is judged from now on: re-rank every round.
-      for (LatticeCalibrationRound& k : summary.rounds) k.weighted_error = weighted_error(k);
-      for (const LatticeCalibrationRound& k : summary.rounds)
-        if (k.weighted_error < summary.rounds[summary.best_round - 1].weighted_error) {
-          summary.best_round = k.round;
-          summary.material = round_materials[k.round - 1];
-        }
+      rerank();
     }
     if (summary.tensile_capped && std::abs(r.error_ucs) <= options.tolerance_ucs) break;  // the UCS alone is left
+    if (ucs_on_tension) {  // the UCS's own secant against the triangles' sigma_t
+      double slope = 1.0;
+      if (round > first_round_at_phi && std::abs(p[1] - previous_p[1]) > 1e-6)
+        slope = std::clamp((m[0] - previous_m[0]) / (p[1] - previous_p[1]), 0.2, 1.5);
+      previous_p = p;
+      previous_m = m;
+      p[1] += std::clamp((goal[0] - m[0]) / slope, -std::log(3.0), std::log(3.0));
+      continue;
+    }
     previous_p = p;
     previous_m = m;
     for (int k = 0; k < 2; ++k) {

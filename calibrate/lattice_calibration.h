@@ -14,6 +14,8 @@
 //     shear limit. With a free friction angle it is lowered (at most twice, to 5 degrees at
 //     the least; LowerFrictionAngle in the .cpp) and c follows; with the target's angle, or at
 //     the lowest, sigma_t is out of reach, said so, and given up;
+//   - a UCS that stops following c is capped by the tension cut-off: the UCS is then reached
+//     through the triangles' sigma_t (c kept), and sigma_t is said out of reach and given up;
 //   - stop when UCS and sigma_t are within their tolerances; the result is the best round.
 // No maps: a round is two short tests of an elastic-brittle lattice.
 //
@@ -62,8 +64,9 @@ struct LatticeCalibrationSummary {
   std::vector<LatticeCalibrationRound> rounds;
   int best_round = 0;        // 1-based
   bool converged = false;    // UCS and sigma_t (unless given up) within tolerance, E, nu confirmed
-  // The Brazilian strength stopped following the triangles' sigma_t (the shear limit caps
-  // it): sigma_t is out of reach at this friction angle and given up.
+  // sigma_t given up: the Brazilian strength stopped following the triangles' sigma_t (the
+  // shear limit caps it at this friction angle), or the UCS stopped following c (the tension
+  // cut-off caps it, and the UCS is reached through sigma_t).
   bool tensile_capped = false;
   std::vector<std::string> notes;
   int ucs_particles = 0, bts_particles = 0;

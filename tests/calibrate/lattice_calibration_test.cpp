@@ -97,6 +97,26 @@ TEST(LatticeCalibration, AFreeFrictionAngleIsLoweredWhenTheShearLimitCapsSigmaT)
   EXPECT_EQ(fixed.friction_angle_deg, 30.0);
 }
 
+// A target whose UCS / sigma_t lies far above what the tension cut-off lets the UCS reach (the
+// twin's UCS tripled): once c rises without moving the UCS, the UCS is reached through the
+// triangles' sigma_t, sigma_t is given up and said so, and the UCS is met.
+TEST(LatticeCalibration, AUcsCappedByTheTensionCutOffIsReachedThroughSigmaT) {
+  IsotropicTwin twin;
+  ASSERT_TRUE(twin.Make({7e6, 22e6, 30.0}, "lattice twin, UCS x10"));
+  twin.target.ucs_pa *= 10.0;
+  LatticeCalibrationOptions options;
+  options.max_rounds = 8;
+  const LatticeCalibrationSummary s = CalibrateLattice(twin.ucs, twin.bts, twin.target, options);
+  SCOPED_TRACE(s.FullReport());
+  EXPECT_TRUE(s.tensile_capped);
+  bool said = false;
+  for (const std::string& note : s.notes) said = said || note.find("tension cut-off caps it") != std::string::npos;
+  EXPECT_TRUE(said);
+  const LatticeCalibrationRound& best = s.rounds[s.best_round - 1];
+  EXPECT_LE(std::abs(best.error_ucs), 0.02);
+  EXPECT_GT(best.error_tensile, 0.05);  // sigma_t follows the UCS up: given up, not met
+}
+
 // An orthotropic twin (axis 1 at 30 degrees): D is set from the target's constants in closed
 // form; the UCS's linear portion confirms the apparent E and nu along y that the material file
 // reader derives, and the rounds meet the strengths.

@@ -56,7 +56,7 @@ def main():
             r = json.load(f)
         best = r["rounds"][r["best_round"] - 1]["relative_errors"]
         outcome = "converged" if r["converged"] else (
-            "sigma_t given up (capped by shear)" if "sigma_t" in r["given_up"] else "**not converged**")
+            "sigma_t given up (a strength capped)" if "sigma_t" in r["given_up"] else "**not converged**")
         rows.append({"name": r["target"]["name"], "rounds": len(r["rounds"]), "best": r["best_round"],
                      "errors": best, "outcome": outcome, "seconds": seconds,
                      "ratio": r["target"]["ucs_pa"] / r["target"]["tensile_strength_pa"]})
