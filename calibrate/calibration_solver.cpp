@@ -828,54 +828,53 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
                                   (compressive ? "sigma_t" : "the UCS") +
                                   " is given up");
       } else if (tensile_honoured && x_free && !ratio_measured_in_reach && !met(k) && !last) {
-        double lo = std::numeric_limits<double>::infinity(), hi = -lo, x_of_lo = x_lo, x_of_hi = x_hi;
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
         for (int j = 0; j <= 100; ++j) {
-          const double v = x_lo + width * j / 100.0, value = ratio_at(v);
-          if (value < lo) lo = value, x_of_lo = v;
-          if (value > hi) hi = value, x_of_hi = v;
+          const double value = ratio_at(x_lo + width * j / 100.0);
+          lo = std::min(lo, value);
+          hi = std::max(hi, value);
         }
         const bool above = log_ratio > hi + slack, below = log_ratio < lo - slack;
         if (above || below) {
-          const double end = above ? x_of_hi : x_of_lo;
-          bool measured_at_end = false;
-          for (const StrengthRound& r : rounds) {
-            const double rr = std::log(r.measured.ucs_pa / r.measured.tensile_strength_pa);
-            if (r.elastic_set == line_id && std::abs(Get(r.ratios, kX) - end) <= 0.02 * width &&
-                (above ? rr < log_ratio - slack : rr > log_ratio + slack))
-              measured_at_end = true;
-          }
-          // The maps' trend towards that end must be measured too: two rounds 10 % of the box
-          // apart, the one nearer the end nearer the target, or two stored measurements at
-          // one elastic set whose ratio moves the same way along Rt/Rn. Where it is not, a
-          // probe a quarter of the box inwards measures it, since a map can have it wrong.
+          // The measured extreme of the ratio on this line (the largest when the target lies
+          // above the corrected line, the smallest when below) is the nearest it comes. It
+          // declares the target out of reach only once shown to be an extreme: every side of it
+          // with room in the box holds a measurement 10-35 % of the box away (or nearer, where
+          // less room is left), since the trend of the maps between can be wrong. A rigid twin
+          // measured 17.6 at Rt/Rn 4.5 and 16.2 and 15.9 at 9.7 and 10, the box end where the
+          // maps put the top. A side without one is probed a quarter of the box away.
           struct Sample {
-            MicroRatios ratios;
-            double log_ratio;
+            double x, log_ratio;
           };
-          std::vector<Sample> line_samples, stored_samples;
+          std::vector<Sample> samples;  // this line's rounds and the stored measurements on it
           for (const StrengthRound& r : rounds)
             if (r.elastic_set == line_id)
-              line_samples.push_back({r.ratios, std::log(r.measured.ucs_pa / r.measured.tensile_strength_pa)});
+              samples.push_back({Get(r.ratios, kX), std::log(r.measured.ucs_pa / r.measured.tensile_strength_pa)});
           for (const SurrogateMeasurement& m : surrogate_.stored_measurements())
-            if (m.ucs_per_strength > 0.0 && m.tensile_per_strength > 0.0)
-              stored_samples.push_back({m.ratios, std::log(m.ucs_per_strength / m.tensile_per_strength)});
-          // Towards the end (in the direction of growing Rt/Rn when the end is the upper one).
-          const double toward = end > 0.5 * (x_lo + x_hi) ? 1.0 : -1.0;
-          auto trend_in = [&](const std::vector<Sample>& samples) {
-            for (const Sample& a : samples)
-              for (const Sample& b : samples) {
-                if (!SameElastic(a.ratios, b.ratios)) continue;
-                const double step = toward * (Get(a.ratios, kX) - Get(b.ratios, kX));  // a nearer the end
-                if (!(step >= 0.1 * width)) continue;
-                if (above ? a.log_ratio >= b.log_ratio : a.log_ratio <= b.log_ratio) return true;
-              }
-            return false;
-          };
-          const bool trend_measured = trend_in(line_samples) || trend_in(stored_samples);
-          if (measured_at_end && !trend_measured) {
-            probe_x = std::clamp(end + (end > 0.5 * (x_lo + x_hi) ? -0.25 : 0.25) * width, x_lo, x_hi);
-            measured_at_end = false;
+            if (m.ucs_per_strength > 0.0 && m.tensile_per_strength > 0.0 && SameElastic(m.ratios, set.ratios))
+              samples.push_back({Get(m.ratios, kX), std::log(m.ucs_per_strength / m.tensile_per_strength)});
+          const double sign = above ? 1.0 : -1.0;
+          size_t star = 0;
+          for (size_t i = 1; i < samples.size(); ++i)
+            if (sign * samples[i].log_ratio > sign * samples[star].log_ratio) star = i;
+          const double star_x = samples[star].x;
+          bool measured_at_end = sign * (log_ratio - samples[star].log_ratio) > slack;
+          const double room_below = star_x - x_lo, room_above = x_hi - star_x;
+          for (double side : {room_below >= room_above ? -1.0 : 1.0, room_below >= room_above ? 1.0 : -1.0}) {
+            const double room = side < 0.0 ? room_below : room_above;
+            if (!measured_at_end || room <= 0.02 * width) continue;
+            const double from = std::min(0.1 * width, room - 0.02 * width), to = 0.35 * width;
+            bool seen = false;
+            for (const Sample& m : samples) {
+              const double d = side * (m.x - star_x);
+              if (d >= from * (1.0 - 1e-9) && d <= to) seen = true;
+            }
+            if (!seen) {
+              probe_x = std::clamp(star_x + side * std::min(0.25 * width, room), x_lo, x_hi);
+              measured_at_end = false;
+            }
           }
+          const double end = star_x;
           if (measured_at_end) {
             MicroRatios next_start;
             double unused_lo = 0.0, unused_hi = 0.0;
@@ -995,7 +994,7 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
       if (probe_x >= x_lo) {
         next = probe_x;
         probe_x = -1.0;
-        step << "; probing the trend";
+        step << "; probing beside the measured extreme of sigma_c / sigma_t";
       } else if (tensile_honoured) {
         // The smallest step predicted to meet both strengths: where sigma_c / sigma_t is flat
         // in Rt/Rn (the plateau of tension-controlled failure) the root of the ratio can lie
@@ -1016,23 +1015,55 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
           if (rr < log_ratio && rr > below_ratio) below_ratio = rr, below_x = rx;
           if (rr > log_ratio && rr < above_ratio) above_ratio = rr, above_x = rx;
         }
-        if (below_x > 0.0 && above_x > below_x) {
-          lo = std::max(x_lo, below_x);
-          hi = std::min(x_hi, above_x);
+        if (below_x > 0.0 && above_x > 0.0) {
+          // (in either order: where the ratio falls with Rt/Rn, past a peak, the round above the
+          // target lies at the smaller Rt/Rn, and the root still lies between them)
+          lo = std::max(x_lo, std::min(below_x, above_x));
+          hi = std::min(x_hi, std::max(below_x, above_x));
           best_x = std::clamp(best_x, lo, hi);
           step << "; bracketed by the rounds at Rt/Rn " << Number("%.4g", below_x) << " and " << Number("%.4g", above_x);
         } else if (below_x > 0.0 || above_x > 0.0) {
           // Every round of the line on one side of the target: the root lies beyond the last
           // of them on that side, whatever the surfaces say past the others (a DDEM twin on
           // rigid particles: 16.6 at Rt/Rn 4.39 and 16.4 at 2.85 against 13.4; the surfaces,
-          // bent at the box end, sent the next round to 7.9).
+          // bent at the box end, sent the next round to 7.9). That holds while the ratio grows
+          // with Rt/Rn. Where the rounds show it falling (their least-squares slope in Rt/Rn
+          // below zero by two standard errors of the ratio's path noise), it has a peak (or a
+          // trough, when every round lies above) and the root lies on the other side of the round
+          // nearest the target, a quarter of the box or the region away.
+          const bool all_above = above_x > 0.0;
+          size_t nearest = rounds.size();
+          double nearest_ratio = 0.0, n = 0.0, mean_x = 0.0, mean_r = 0.0;
+          for (size_t i = 0; i < rounds.size(); ++i) {
+            if (rounds[i].elastic_set != line_id) continue;
+            const double rr = std::log(rounds[i].measured.ucs_pa / rounds[i].measured.tensile_strength_pa);
+            if (nearest == rounds.size() || (all_above ? rr < nearest_ratio : rr > nearest_ratio))
+              nearest = i, nearest_ratio = rr;
+            n += 1.0, mean_x += Get(rounds[i].ratios, kX), mean_r += rr;
+          }
+          mean_x /= n, mean_r /= n;
+          double sxx = 0.0, sxr = 0.0;
+          for (const StrengthRound& r : rounds) {
+            if (r.elastic_set != line_id) continue;
+            const double dx = Get(r.ratios, kX) - mean_x;
+            sxx += dx * dx, sxr += dx * (std::log(r.measured.ucs_pa / r.measured.tensile_strength_pa) - mean_r);
+          }
+          const double nearest_x = Get(rounds[nearest].ratios, kX);
+          // ln sigma_c / sigma_t of one round scatters by about 1.5 % (UCS and sigma_t 1 % each).
+          constexpr double kRatioNoise = 0.015;
+          const bool reversed = sxx > 0.0 && sxr / sxx < -2.0 * kRatioNoise / std::sqrt(sxx);
+          const bool root_below = all_above != reversed;
           double& bound = one_sided_bound;
-          bound = above_x > 0.0 ? x_hi : x_lo;
-          for (const StrengthRound& r : rounds)
-            if (r.elastic_set == line_id)
-              bound = above_x > 0.0 ? std::min(bound, Get(r.ratios, kX)) : std::max(bound, Get(r.ratios, kX));
-          const double reach = std::max(trust, 0.02 * width);
-          if (above_x > 0.0) {
+          if (reversed) {
+            bound = nearest_x;
+          } else {
+            bound = all_above ? x_hi : x_lo;
+            for (const StrengthRound& r : rounds)
+              if (r.elastic_set == line_id)
+                bound = all_above ? std::min(bound, Get(r.ratios, kX)) : std::max(bound, Get(r.ratios, kX));
+          }
+          const double reach = std::max(trust, (reversed ? 0.25 : 0.02) * width);
+          if (root_below) {
             hi = std::min(hi, bound);
             if (!(lo < hi)) lo = std::max(x_lo, hi - reach);
           } else {
@@ -1040,8 +1071,11 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
             if (!(lo < hi)) hi = std::min(x_hi, lo + reach);
           }
           best_x = std::clamp(best_x, lo, hi);
-          step << "; every round " << (above_x > 0.0 ? "above" : "below") << " the target ratio: Rt/Rn "
-               << (above_x > 0.0 ? "below " : "above ") << Number("%.4g", bound);
+          step << "; every round " << (all_above ? "above" : "below") << " the target ratio"
+               << (reversed ? std::string(", which falls ") + (all_above ? "below" : "above") + " Rt/Rn " +
+                                  Number("%.4g", nearest_x)
+                            : std::string())
+               << ": Rt/Rn " << (root_below ? "below " : "above ") << Number("%.4g", bound);
         }
         auto predicted_within = [&](double v) {
           double log_rn, c, t;
