@@ -118,53 +118,6 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
            (summary.tensile_capped ? 0.0 : std::pow(std::log1p(r.error_tensile) / tau_t, 2));
   };
   std::vector<LatticeMaterial> round_materials;
-  // A UCS and a Brazilian test of `m` on the two specimens at once.
-  auto run_pair = [&](const LatticeMaterial& m, const std::string& what) {
-    LabTestOptions ucs_test = options.test, bts_test = options.test;
-    ucs_test.kind = LabTestKind::kUniaxialCompression;
-    bts_test.kind = LabTestKind::kBrazilian;
-    ucs_test.progress = bts_test.progress = nullptr;
-    auto bts_run = std::async(std::launch::async, [&]() { return RunLatticeLabTest(bts, m, bts_test, options.protocol); });
-    LabTestResult u = RunLatticeLabTest(ucs, m, ucs_test, options.protocol);
-    LabTestResult b = bts_run.get();
-    if (!u.peak_reached || !b.peak_reached)
-      throw ComputationError("lattice " + what + ": the " + (!u.peak_reached ? "UCS" : "Brazilian") + " test " +
-                             (!u.peak_reached ? u.termination_message : b.termination_message));
-    return std::make_pair(u, b);
-  };
-
-  // Reach: the tension cut-off alone (the shear limit a thousand times above the target's UCS)
-  // caps UCS / sigma_t at the quotient of the two strengths per unit sigma_t of the triangles.
-  {
-    const auto reach_start = std::chrono::steady_clock::now();
-    if (options.progress) options.progress(0.0, "lattice reach: the tension cut-off alone");
-    LatticeMaterial tension_only = material;
-    const double probe_tensile = target.tensile_strength_pa;
-    tension_only.strength = {probe_tensile, 1e3 * target.ucs_pa, phi_deg};
-    const auto [u, b] = run_pair(tension_only, "reach (the tension cut-off alone)");
-    summary.reach_ucs_per_tensile = u.peak_stress_pa / probe_tensile;
-    summary.reach_bts_per_tensile = b.tensile_strength_pa / probe_tensile;
-    summary.strength_ratio_max = summary.reach_ucs_per_tensile / summary.reach_bts_per_tensile;
-    summary.reach_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - reach_start).count();
-    if (target.StrengthRatio() > summary.strength_ratio_max * (1.0 + options.tolerance_tensile)) {
-      // Out of reach: the UCS through the triangles' sigma_t, the shear limit kept three times
-      // above it (in the closed form) so that tension governs as in the reach pair.
-      summary.declared_before_first_round = summary.tensile_capped = true;
-      ucs_on_tension = true;
-      p[1] = std::log(target.ucs_pa / summary.reach_ucs_per_tensile);
-      p[0] = std::log(3.0 * target.ucs_pa / MohrCoulombUcsPerCohesion(phi_deg));
-      summary.notes.push_back(
-          "before round 1: with the tension cut-off alone the lattice reaches UCS / sigma_t " +
-          Format("%.3g", summary.strength_ratio_max) + " at most on these specimens (UCS " +
-          Format("%.3g", summary.reach_ucs_per_tensile) + " and Brazilian " +
-          Format("%.3g", summary.reach_bts_per_tensile) + " times the triangles' sigma_t); " +
-          Format("%.3g", target.StrengthRatio()) +
-          " is out of reach, so the UCS is reached through the triangles' sigma_t and sigma_t is given up");
-    } else {
-      p[1] = std::log(target.tensile_strength_pa / summary.reach_bts_per_tensile);
-    }
-  }
-
   // Once sigma_t is given up the UCS alone is judged: every round re-ranked.
   auto rerank = [&]() {
     for (LatticeCalibrationRound& k : summary.rounds) k.weighted_error = weighted_error(k);
@@ -183,7 +136,18 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
                        "lattice round " + std::to_string(round) + ": c " + Format("%.4g", material.strength.cohesion_pa) +
                            " Pa, sigma_t " + Format("%.4g", material.strength.tensile_strength_pa) + " Pa, phi " +
                            Format("%.3g", phi_deg) + " degrees");
-    const auto [u, b] = run_pair(material, "round " + std::to_string(round));
+    LabTestOptions ucs_test = options.test, bts_test = options.test;
+    ucs_test.kind = LabTestKind::kUniaxialCompression;
+    bts_test.kind = LabTestKind::kBrazilian;
+    ucs_test.progress = bts_test.progress = nullptr;
+    auto bts_run = std::async(std::launch::async,
+                              [&]() { return RunLatticeLabTest(bts, material, bts_test, options.protocol); });
+    const LabTestResult u = RunLatticeLabTest(ucs, material, ucs_test, options.protocol);
+    const LabTestResult b = bts_run.get();
+    if (!u.peak_reached || !b.peak_reached)
+      throw ComputationError(std::string("lattice round ") + std::to_string(round) + ": the " +
+                             (!u.peak_reached ? "UCS" : "Brazilian") + " test " +
+                             (!u.peak_reached ? u.termination_message : b.termination_message));
     summary.critical_time_step_s = u.critical_time_step_s;
     LatticeCalibrationRound r;
     r.round = round;
@@ -349,12 +313,6 @@ std::string LatticeCalibrationSummary::FullReport() const {
       << "  E and nu are the lattice's inputs; the rounds fit the triangles' cohesion and tensile strength"
       << " (friction angle of the result " << friction_angle_deg << " degrees, "
       << (target.friction_angle_deg ? "the target's" : "free: 30 unless the shear limit caps sigma_t") << ")\n";
-  std::snprintf(line, sizeof line,
-                "  reach (the tension cut-off alone, before round 1): UCS %.3g and Brazilian %.3g times the triangles' "
-                "sigma_t, so UCS / sigma_t %.3g at most; the target's %.3g %s; %.0f s\n",
-                reach_ucs_per_tensile, reach_bts_per_tensile, strength_ratio_max, target.StrengthRatio(),
-                declared_before_first_round ? "is out of reach (sigma_t given up)" : "lies within", reach_seconds);
-  out << line;
   for (const LatticeCalibrationRound& r : rounds) {
     std::snprintf(line, sizeof line,
                   "  round %d%s: c %.4g MPa, sigma_t %.4g MPa, phi %.3g: UCS %.4g MPa (%+.2f %%), sigma_t %.4g MPa "
@@ -395,11 +353,6 @@ nlohmann::json LatticeCalibrationSummary::ToJson() const {
   j["critical_time_step_s"] = critical_time_step_s;
   j["wall_seconds"] = wall_seconds;
   j["specimens"] = {{"ucs_particles", ucs_particles}, {"bts_particles", bts_particles}};
-  j["reach"] = {{"ucs_per_tensile_strength", reach_ucs_per_tensile},
-                {"bts_per_tensile_strength", reach_bts_per_tensile},
-                {"strength_ratio_max", strength_ratio_max},
-                {"declared_before_first_round", declared_before_first_round},
-                {"seconds", reach_seconds}};
   for (const LatticeCalibrationRound& r : rounds)
     j["rounds"].push_back({{"round", r.round}, {"cohesion_pa", r.cohesion_pa},
                            {"friction_angle_deg", r.friction_angle_deg},

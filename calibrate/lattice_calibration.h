@@ -5,14 +5,8 @@
 // linear portion of each round's UCS confirms it). The two strengths of the triangles, the
 // cohesion c and the tensile strength sigma_t (phi: the target's friction angle, else free,
 // from 30 degrees), are found by rounds of UCS and Brazilian tests on the real specimens:
-//   - reach, before round 1: a UCS and a Brazilian test with the shear limit out of play (c a
-//     thousand times the target's UCS) measure the strengths of the tension cut-off alone per
-//     unit of the triangles' sigma_t; their quotient is the largest UCS / sigma_t the lattice
-//     reaches on these specimens. A target above it (by more than the sigma_t tolerance) is
-//     declared out of reach now: the UCS is reached through the triangles' sigma_t and sigma_t
-//     is given up;
 //   - start: c from the triangles' own Mohr-Coulomb UCS, 2 c cos(phi) / (1 - sin(phi)) = UCS,
-//     and sigma_t from the target's by the Brazilian strength per unit sigma_t just measured;
+//     and sigma_t = the target's;
 //   - each round measures the UCS and the Brazilian sigma_t; each strength of the triangles is
 //     stepped by its own secant in logarithms (c for the UCS, sigma_t for the Brazilian; the
 //     slope 1 at first, then measured, clamped to [0.2, 1.5]), at most a factor 3 per step;
@@ -74,12 +68,6 @@ struct LatticeCalibrationSummary {
   // shear limit caps it at this friction angle), or the UCS stopped following c (the tension
   // cut-off caps it, and the UCS is reached through sigma_t).
   bool tensile_capped = false;
-  // The reach pair (tension cut-off alone): UCS and Brazilian strength per unit of the
-  // triangles' sigma_t, their quotient (the largest UCS / sigma_t on these specimens), whether
-  // the target was declared out of reach by it before round 1, and its wall time.
-  double reach_ucs_per_tensile = 0.0, reach_bts_per_tensile = 0.0, strength_ratio_max = 0.0;
-  bool declared_before_first_round = false;
-  double reach_seconds = 0.0;
   std::vector<std::string> notes;
   int ucs_particles = 0, bts_particles = 0;
   double critical_time_step_s = 0.0;  // of the UCS test

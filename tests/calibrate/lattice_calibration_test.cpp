@@ -60,9 +60,6 @@ TEST(LatticeCalibration, FindsTheHiddenStrengthsOfATwin) {
   SCOPED_TRACE(s.FullReport());
   EXPECT_TRUE(s.converged);
   EXPECT_LE(s.rounds.size(), 4u);
-  // The reach pair puts the twin's ratio within reach: the tension cut-off alone gives more.
-  EXPECT_FALSE(s.declared_before_first_round);
-  EXPECT_GT(s.strength_ratio_max, twin.target.StrengthRatio());
   const LatticeCalibrationRound& best = s.rounds[s.best_round - 1];
   EXPECT_LE(std::abs(best.error_ucs), 0.02);
   EXPECT_LE(std::abs(best.error_tensile), 0.05);
@@ -101,8 +98,8 @@ TEST(LatticeCalibration, AFreeFrictionAngleIsLoweredWhenTheShearLimitCapsSigmaT)
 }
 
 // A target whose UCS / sigma_t lies far above what the tension cut-off lets the UCS reach (the
-// twin's UCS tenfold): the reach pair declares it out of reach before round 1, the UCS is
-// reached through the triangles' sigma_t, sigma_t is given up and said so, and the UCS is met.
+// twin's UCS tripled): once c rises without moving the UCS, the UCS is reached through the
+// triangles' sigma_t, sigma_t is given up and said so, and the UCS is met.
 TEST(LatticeCalibration, AUcsCappedByTheTensionCutOffIsReachedThroughSigmaT) {
   IsotropicTwin twin;
   ASSERT_TRUE(twin.Make({7e6, 22e6, 30.0}, "lattice twin, UCS x10"));
@@ -112,14 +109,10 @@ TEST(LatticeCalibration, AUcsCappedByTheTensionCutOffIsReachedThroughSigmaT) {
   const LatticeCalibrationSummary s = CalibrateLattice(twin.ucs, twin.bts, twin.target, options);
   SCOPED_TRACE(s.FullReport());
   EXPECT_TRUE(s.tensile_capped);
-  EXPECT_TRUE(s.declared_before_first_round);
-  EXPECT_LT(s.strength_ratio_max, twin.target.StrengthRatio());
   bool said = false;
-  for (const std::string& note : s.notes) said = said || note.find("before round 1") != std::string::npos;
+  for (const std::string& note : s.notes) said = said || note.find("tension cut-off caps it") != std::string::npos;
   EXPECT_TRUE(said);
-  EXPECT_TRUE(s.ToJson()["reach"]["declared_before_first_round"].get<bool>());
   const LatticeCalibrationRound& best = s.rounds[s.best_round - 1];
-  EXPECT_LE(s.rounds.size(), 3u);  // the UCS scales with the triangles' sigma_t on the cut-off
   EXPECT_LE(std::abs(best.error_ucs), 0.02);
   EXPECT_GT(best.error_tensile, 0.05);  // sigma_t follows the UCS up: given up, not met
 }
