@@ -7,7 +7,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/format.h"
-#include "generator/exports.h"
+#include "lab/bonded_export.h"
 #include "lab/lab_specimen.h"
 #include "specimen_version.h"
 
@@ -254,79 +254,28 @@ def main(argv):
         if not 0.0 < args.strain_limit < 0.5:
             parser.error("--strain-limit = %g is not allowed: it must be in (0, 0.5)" % args.strain_limit)
         result = run_ucs(args.strain_limit, args.until_first_break, args.curve)
-    text = json.dumps(result, indent=2)
-    print(text)
-    if args.json:
-        with open(args.json, "w") as out:
-            out.write(text + "\n")
+    report(result, args.json)
     return result
 
 
 main(sys.argv)
 )PY";
 
-// A Python literal: the number written exactly, or None.
-std::string PythonNumber(const std::optional<double>& value) {
-  return value ? ExactDouble(*value) : std::string("None");
-}
-
-// Text safe in a one-line Python comment or string: line breaks and quotes replaced.
-std::string PythonText(const std::string& text) {
-  std::string safe = text.substr(0, 200);
-  for (char& c : safe)
-    if (c == '\n' || c == '\r' || c == '"' || c == '\\') c = ' ';
-  return safe;
-}
-
-// The constants Yade's law can carry, or an InputError saying which field it cannot.
-void RequireYadeMaterial(const MaterialParameters& material, const std::string& source) {
-  std::string error;
-  if (!material.IsValid(&error)) throw InputError(source + ": " + error);
-  if (material.deformable())
-    throw InputError(source + ": particle_youngs_modulus is given (deformable particles, DDEM): Yade's "
-                     "spheres are rigid, so the export would not be this material; export a rigid-particle "
-                     "set (calibrate-to-material --model rigid)");
-  if (material.bonds_carry_moments())
-    throw InputError(source + ": bond_radius_ratio = " + Number(material.bond_radius_ratio) +
-                     " (bonds with a moment) is not allowed: it must be 0 for the Yade export (CohFrictPhys "
-                     "checks its moment limits apart from the force, not on the combined peripheral stress)");
-  if (material.bond_range > 1.0)
-    throw InputError(source + ": bond_range = " + Number(material.bond_range) +
-                     " (bonds within an interaction range) is not allowed: it must be 1 for the Yade export "
-                     "(the script bonds the packing's contact pairs only; the pairs at range would need Yade's "
-                     "interactionDetectionFactor on both the collider and the geometry functor, not checked here)");
-  if (!std::isfinite(material.bond_tensile_strength_n) || !std::isfinite(material.bond_shear_strength_n))
-    throw InputError(source + ": an unbreakable bond (bond_tensile_strength or bond_shear_strength = inf) "
-                     "has no Yade equivalent here: give finite strengths");
-}
-
 }  // namespace
 
 template <int Dim>
-std::vector<std::array<int, 2>> YadeBonds(const Packing<Dim>& packing, double bond_gap_tolerance) {
-  std::vector<std::array<int, 2>> bonds;
-  for (const auto& c : packing.contacts) {
-    const double r_i = packing.radii[c[0]], r_j = packing.radii[c[1]];
-    // The solver's rule (solver/simulation.cpp, Madan (2.21)).
-    if (std::abs(packing.Gap(c[0], c[1])) <= bond_gap_tolerance * 0.5 * (r_i + r_j)) bonds.push_back(c);
-  }
-  return bonds;
-}
-
-template <int Dim>
 void WriteYadeScript(const Packing<Dim>& packing, const YadeExportOptions& options, std::ostream& out) {
-  RequireExportable(packing, "Yade script");
-  if (packing.size() == 0) throw InputError("cannot export the Yade script: the packing has no particles");
-  if (!(options.bond_gap_tolerance >= 0.0 && options.bond_gap_tolerance <= 1.0))
-    throw InputError("bond_gap_tolerance = " + Number(options.bond_gap_tolerance) +
-                     " is not allowed: it must be in [0, 1]");
+  RequireBondedExportable(packing, options.bond_gap_tolerance, "Yade script");
   if (!(options.time_step_safety > 0.0 && options.time_step_safety <= 1.0))
     throw InputError("time_step_safety = " + Number(options.time_step_safety) +
                      " is not allowed: it must be in (0, 1]");
   std::string error;
   if (!options.ucs.IsValid(&error)) throw InputError(error);
   const std::string source = options.parameters_source.empty() ? "the parameters" : options.parameters_source;
-  if (options.material) RequireYadeMaterial(*options.material, source);
+  if (options.material)
+    RequireRigidPairBonds(*options.material, source, "Yade",
+                          "CohFrictPhys checks its moment limits apart from the force, not on the combined "
+                          "peripheral stress");
 
   // The UCS platens need run-test's specimen shapes (a rectangle, a box or a cylinder that
   // the particles fill); another packing is exported without them, the script says why.
@@ -337,11 +286,8 @@ void WriteYadeScript(const Packing<Dim>& packing, const YadeExportOptions& optio
   } catch (const InputError& e) {
     ucs_refusal = e.what();
   }
-  const std::vector<std::array<int, 2>> bonds = YadeBonds(packing, options.bond_gap_tolerance);
+  const std::vector<std::array<int, 2>> bonds = ExportedBonds(packing, options.bond_gap_tolerance);
   const MaterialParameters* m = options.material ? &*options.material : nullptr;
-  auto constant = [&](double MaterialParameters::*field) {
-    return m ? std::optional<double>(m->*field) : std::nullopt;
-  };
 
   out << "# Bonded specimen for Yade (checked with Yade 2023.02a), written by export-specimen " << kVersion << ".\n"
       << "# packing: " << PythonText(options.packing_source) << " (" << PythonText(packing.created_by) << ")\n"
@@ -376,14 +322,9 @@ void WriteYadeScript(const Packing<Dim>& packing, const YadeExportOptions& optio
       << "from yade import utils\n"
       << "from yade.wrapper import *\n\n"
       << "DIMENSION = " << Dim << "\n"
-      << "THICKNESS = 1.0  # [m], 2D only\n"
-      << "KN = " << PythonNumber(constant(&MaterialParameters::normal_stiffness_n_per_m)) << "  # [N/m]\n"
-      << "KT = " << PythonNumber(constant(&MaterialParameters::tangential_stiffness_n_per_m)) << "  # [N/m]\n"
-      << "RN = " << PythonNumber(constant(&MaterialParameters::bond_tensile_strength_n)) << "  # [N]\n"
-      << "RT = " << PythonNumber(constant(&MaterialParameters::bond_shear_strength_n)) << "  # [N]\n"
-      << "MU = " << PythonNumber(constant(&MaterialParameters::friction_coefficient)) << "\n"
-      << "DENSITY = " << PythonNumber(constant(&MaterialParameters::density_kg_per_m3)) << "  # [kg/m^3]\n"
-      << "R_MEAN = " << ExactDouble(VolumeMeanRadius<Dim>(packing.radii)) << "  # volume-based mean radius [m]\n"
+      << "THICKNESS = 1.0  # [m], 2D only\n";
+  WritePythonMaterialConstants(m, out);
+  out << "R_MEAN = " << ExactDouble(VolumeMeanRadius<Dim>(packing.radii)) << "  # volume-based mean radius [m]\n"
       << "# run-test's UCS (lab/lab_test.h)\n"
       << "LOADING_RATE_GROUP = " << ExactDouble(options.ucs.loading_rate_group) << "\n"
       << "RAMP_TRANSITS = " << ExactDouble(options.ucs.velocity_ramp_transits) << "\n"
@@ -412,7 +353,7 @@ void WriteYadeScript(const Packing<Dim>& packing, const YadeExportOptions& optio
   }
   out << "]\n# bonds: particle indices (i, j)\nBONDS = [\n";
   for (const auto& b : bonds) out << "    (" << b[0] << ", " << b[1] << "),\n";
-  out << "]\n" << kScriptBody;
+  out << "]\n" << kPythonReportFunction << kScriptBody;
 }
 
 template <int Dim>
@@ -420,8 +361,6 @@ void SaveYadeScript(const Packing<Dim>& packing, const YadeExportOptions& option
   WriteFileAtomically(path, [&](std::ostream& out) { WriteYadeScript(packing, options, out); });
 }
 
-template std::vector<std::array<int, 2>> YadeBonds<2>(const Packing<2>&, double);
-template std::vector<std::array<int, 2>> YadeBonds<3>(const Packing<3>&, double);
 template void WriteYadeScript<2>(const Packing<2>&, const YadeExportOptions&, std::ostream&);
 template void WriteYadeScript<3>(const Packing<3>&, const YadeExportOptions&, std::ostream&);
 template void SaveYadeScript<2>(const Packing<2>&, const YadeExportOptions&, const std::string&);

@@ -26,6 +26,7 @@
 #include <string>
 
 #include "generator/packing.h"
+#include "lab/bonded_export.h"  // ExportedBonds: the bonds the script creates
 #include "lab/lab_test.h"
 #include "solver/material.h"
 
@@ -57,9 +58,5 @@ void WriteYadeScript(const Packing<Dim>& packing, const YadeExportOptions& optio
 // The same, written to `path` atomically (temporary file + rename): an error leaves no file.
 template <int Dim>
 void SaveYadeScript(const Packing<Dim>& packing, const YadeExportOptions& options, const std::string& path);
-
-// The bonds the script creates: the listed pairs with |gap| <= tolerance x (ri + rj)/2.
-template <int Dim>
-std::vector<std::array<int, 2>> YadeBonds(const Packing<Dim>& packing, double bond_gap_tolerance);
 
 }  // namespace specimen

@@ -13,32 +13,19 @@
 #include <string>
 
 #include "common/error.h"
-#include "generator/generate.h"
 #include "lab/lab_scene_file.h"
 #include "lab/yade_export.h"
 #include "tests/generator/scratch_directory.h"
+#include "tests/lab/bonded_export_fixtures.h"
 
 namespace specimen {
 namespace {
 
-MaterialParameters Material() {
-  MaterialParameters m;
-  m.normal_stiffness_n_per_m = 2e6;
-  m.tangential_stiffness_n_per_m = 5e5;
-  m.bond_tensile_strength_n = 5.0;
-  m.bond_shear_strength_n = 50.0;
-  m.friction_coefficient = 0.5;
-  m.density_kg_per_m3 = 2650.0;
-  return m;
-}
+MaterialParameters Material() { return ExportTestMaterial(); }
 
 template <int Dim>
 Packing<Dim> Generated(const Domain<Dim>& domain, int count) {
-  GeneratorOptions options = DefaultGeneratorOptions<Dim>();
-  options.particle_count = count;
-  options.seed = 3;
-  options.num_threads = 1;
-  return GeneratePacking<Dim>(domain, options, nullptr);
+  return ExportTestPacking<Dim>(domain, count);
 }
 
 template <int Dim>
@@ -64,15 +51,15 @@ TEST(YadeExport, BondsAreTheSolversBondsAndTheConstantsAreExact) {
   pair.centres = {Vector<2>(0.02, 0.05), Vector<2>(0.041, 0.05)};
   pair.radii = {0.01, 0.01};
   pair.contacts = {{0, 1}};
-  EXPECT_TRUE(YadeBonds(pair, 0.05).empty());  // gap 1e-3 > 0.05 x 0.01
-  EXPECT_EQ(YadeBonds(pair, 0.2).size(), 1u);  // 1e-3 <= 0.2 x 0.01
+  EXPECT_TRUE(ExportedBonds(pair, 0.05).empty());  // gap 1e-3 > 0.05 x 0.01
+  EXPECT_EQ(ExportedBonds(pair, 0.2).size(), 1u);  // 1e-3 <= 0.2 x 0.01
 
   const Packing<2> packing = Generated<2>(Domain<2>::Rectangle(0, 0, 0.01, 0.01), 200);
   YadeExportOptions options;
   options.material = Material();
   const std::string script = Script(packing, options);
   EXPECT_EQ(ListLength(script, "SPHERES"), packing.size());
-  EXPECT_EQ(ListLength(script, "BONDS"), static_cast<int>(YadeBonds(packing, 0.05).size()));
+  EXPECT_EQ(ListLength(script, "BONDS"), static_cast<int>(ExportedBonds(packing, 0.05).size()));
   EXPECT_NE(script.find("KN = 2000000  # [N/m]\n"), std::string::npos);
   EXPECT_NE(script.find("RT = 50  # [N]\n"), std::string::npos);
   EXPECT_NE(script.find("DIMENSION = 2\n"), std::string::npos);
@@ -100,33 +87,12 @@ TEST(YadeExport, AnotherShapeHasNoPlatensAndSaysWhy) {
 TEST(YadeExport, RefusesWhatYadesLawCannotCarryAndWritesNothing) {
   const Packing<2> packing = Generated<2>(Domain<2>::Rectangle(0, 0, 0.01, 0.01), 100);
   ScratchDirectory scratch;
-  auto refusal = [&](const MaterialParameters& material) {
+  ExpectRigidPairRefusals([&](const MaterialParameters& material) {
     YadeExportOptions options;
     options.material = material;
     options.parameters_source = "p.toml";
-    try {
-      SaveYadeScript<2>(packing, options, scratch.File("s.py"));
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  MaterialParameters ddem = Material();
-  ddem.particle_youngs_modulus_pa = 2e11;
-  ddem.particle_poisson_ratio = 0.2;
-  EXPECT_NE(refusal(ddem).find("particle_youngs_modulus"), std::string::npos);
-  MaterialParameters moments = Material();
-  moments.bond_radius_ratio = 0.5;
-  EXPECT_NE(refusal(moments).find("bond_radius_ratio = 0.5"), std::string::npos);
-  MaterialParameters ranged = Material();
-  ranged.bond_range = 1.2;
-  EXPECT_NE(refusal(ranged).find("bond_range = 1.2"), std::string::npos);
-  MaterialParameters unbreakable = Material();
-  unbreakable.bond_tensile_strength_n = std::numeric_limits<double>::infinity();
-  EXPECT_NE(refusal(unbreakable).find("unbreakable"), std::string::npos);
-  MaterialParameters bad = Material();
-  bad.normal_stiffness_n_per_m = -1.0;
-  EXPECT_NE(refusal(bad).find("p.toml"), std::string::npos);
+    SaveYadeScript<2>(packing, options, scratch.File("s.py"));
+  });
   YadeExportOptions options;
   options.bond_gap_tolerance = 2.0;
   EXPECT_THROW(SaveYadeScript<2>(packing, options, scratch.File("s.py")), InputError);
@@ -159,21 +125,6 @@ std::string YadeCommand() {
   return std::system("command -v yade > /dev/null 2>&1") == 0 ? "yade" : "";
 }
 
-// Runs the script's at-rest check in Yade and returns its JSON result.
-nlohmann::json AtRestInYade(const std::string& yade, const std::string& script, const std::string& json,
-                            int steps) {
-  const std::string command = yade + " -x -n '" + script + "' --run at-rest --steps " + std::to_string(steps) +
-                              " --json '" + json + "' > '" + json + ".log' 2>&1";
-  const int status = std::system(command.c_str());
-  std::ifstream log(json + ".log");
-  std::stringstream text;
-  text << log.rdbuf();
-  EXPECT_EQ(status, 0) << command << "\n" << text.str();
-  std::ifstream in(json);
-  if (!in) return nlohmann::json();
-  return nlohmann::json::parse(in);
-}
-
 template <int Dim>
 void ExpectAtRestInYade(const Packing<Dim>& packing) {
   const std::string yade = YadeCommand();
@@ -182,15 +133,10 @@ void ExpectAtRestInYade(const Packing<Dim>& packing) {
   YadeExportOptions options;
   options.material = Material();
   SaveYadeScript<Dim>(packing, options, scratch.File("specimen_yade.py"));
-  const nlohmann::json result = AtRestInYade(yade, scratch.File("specimen_yade.py"), scratch.File("at_rest.json"), 1000);
-  ASSERT_TRUE(result.is_object());
-  const double scale = Material().normal_stiffness_n_per_m * VolumeMeanRadius<Dim>(packing.radii);
-  EXPECT_EQ(result["bonds"].get<int>(), static_cast<int>(YadeBonds(packing, 0.05).size()));
-  EXPECT_GT(result["bonds"].get<int>(), packing.size());
-  EXPECT_LT(result["largest_bond_force_step_1_n"].get<double>(), 1e-9 * scale);
-  EXPECT_LT(result["largest_bond_force_end_n"].get<double>(), 1e-9 * scale);
-  EXPECT_EQ(result["broken_bonds"].get<int>(), 0);
-  EXPECT_EQ(result["steps"].get<int>(), 1000);
+  ExpectBondsAtRest<Dim>(
+      RunAtRestCheck(yade + " -x -n '" + scratch.File("specimen_yade.py") + "' --run at-rest", 1000,
+                     scratch.File("at_rest.json")),
+      packing, 1000);
 }
 
 TEST(YadeExportInYade, BondsStartAtRest2D) {

@@ -1,4 +1,4 @@
-// export-specimen as a user runs it: the Yade script written (default name next to the
+// export-specimen as a user runs it: the Yade script and the ESyS-Particle files written (default name next to the
 // packing, or --output), the parameters carried; bad input exits 2 and unreadable input 3,
 // writing nothing.
 #include <gtest/gtest.h>
@@ -52,18 +52,29 @@ TEST_F(ExportSpecimenCommand, WritesTheScriptWithTheParameters) {
   EXPECT_NE(script.find("BONDS = ["), std::string::npos);
 }
 
+TEST_F(ExportSpecimenCommand, WritesTheEsysGeometryAndScript) {
+  const auto r = RunProgram("export-specimen", scratch_.File("p.packing") + " --to esys --parameters " +
+                                                   scratch_.File("params.toml"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string script = Read(scratch_.File("p_esys.py"));
+  EXPECT_NE(script.find("KN = 1500000000  # [N/m]\n"), std::string::npos);
+  EXPECT_NE(script.find("GEOMETRY = \"p_esys.geo\""), std::string::npos);
+  EXPECT_EQ(Read(scratch_.File("p_esys.geo")).rfind("LSMGeometry 1.2\n", 0), 0u);
+}
+
 TEST_F(ExportSpecimenCommand, BadInputExitsTwoAndUnreadableInputThreeWritingNothing) {
   const std::string packing = scratch_.File("p.packing");
   const std::string out = " --output " + scratch_.File("out/s.py");
+  WriteText(scratch_.File("ddem.toml"), std::string(kParameters) + "particle_youngs_modulus = 2e11\n");
   auto expect = [&](const std::string& arguments, int status, const std::string& message) {
     const auto r = RunProgram("export-specimen", arguments + out);
     EXPECT_EQ(r.status, status) << arguments << "\n" << r.output;
     EXPECT_NE(r.output.find(message), std::string::npos) << arguments << "\n" << r.output;
     EXPECT_TRUE(std::filesystem::is_empty(scratch_.File("out"))) << arguments;
   };
-  expect(packing + " --to esys", 2, "--to = 'esys' is not allowed: use yade");
+  expect(packing + " --to pfc", 2, "--to = 'pfc' is not allowed: use yade or esys");
+  expect(packing + " --to esys --parameters " + scratch_.File("ddem.toml"), 2, "particle_youngs_modulus");
   expect(packing + " --to yade --bond-gap-tolerance 3", 2, "bond_gap_tolerance = 3 is not allowed");
-  WriteText(scratch_.File("ddem.toml"), std::string(kParameters) + "particle_youngs_modulus = 2e11\n");
   expect(packing + " --to yade --parameters " + scratch_.File("ddem.toml"), 2, "particle_youngs_modulus");
   WriteText(scratch_.File("typo.toml"), std::string(kParameters) + "normal_stifness = 1\n");
   expect(packing + " --to yade --parameters " + scratch_.File("typo.toml"), 2, "unknown key 'normal_stifness'");
