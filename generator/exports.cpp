@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <ostream>
 #include <vector>
 
@@ -133,13 +134,27 @@ void WriteYadeSphereList(const Packing<Dim>& packing, std::ostream& out) {
     out << CentreXyz<Dim>(packing.centres[i], ' ') << ' ' << ExactDouble(packing.radii[i]) << '\n';
 }
 
-template <int Dim>
-void WriteLiggghtsData(const Packing<Dim>& packing, std::ostream& out, double density_kg_per_m3) {
-  RequireExportable(packing, "LIGGGHTS data file");
-  if (!std::isfinite(density_kg_per_m3) || !(density_kg_per_m3 > 0.0))
-    throw InputError("LIGGGHTS export: density_kg_per_m3 = " + ExactDouble(density_kg_per_m3) +
-                     " is not allowed: it must be finite and > 0");
+std::string GranularCodeName(GranularCode code) { return code == GranularCode::kLammps ? "LAMMPS" : "LIGGGHTS"; }
 
+double GranularDensityColumn(GranularCode code, int dimension, double density_kg_per_m3, double disc_thickness_m,
+                             double radius_m) {
+  if (dimension == 3) return density_kg_per_m3;
+  // LIGGGHTS: m = pi r^2 x column; LAMMPS: m = 4/3 pi r^3 x column; wanted: rho pi r^2 t.
+  return code == GranularCode::kLiggghts ? density_kg_per_m3 * disc_thickness_m
+                                         : 3.0 * density_kg_per_m3 * disc_thickness_m / (4.0 * radius_m);
+}
+
+template <int Dim>
+void WriteGranularData(const Packing<Dim>& packing, std::ostream& out, GranularCode code, double density_kg_per_m3,
+                       double disc_thickness_m) {
+  const std::string name = GranularCodeName(code);
+  RequireExportable(packing, name + " data file");
+  if (!std::isfinite(density_kg_per_m3) || !(density_kg_per_m3 > 0.0))
+    throw InputError(name + " export: density_kg_per_m3 = " + ExactDouble(density_kg_per_m3) +
+                     " is not allowed: it must be finite and > 0");
+  if (!std::isfinite(disc_thickness_m) || !(disc_thickness_m > 0.0))
+    throw InputError(name + " export: disc_thickness = " + ExactDouble(disc_thickness_m) +
+                     " is not allowed: it must be finite and > 0 [m]");
   // Box: the domain's bounding box grown to hold every sphere whole.
   Vector<Dim> lower = packing.domain.Lower();
   Vector<Dim> upper = packing.domain.Upper();
@@ -166,8 +181,24 @@ void WriteLiggghtsData(const Packing<Dim>& packing, std::ostream& out, double de
   }
 
   // The first line is a comment LIGGGHTS skips; it must stay under 256 characters.
-  out << "LIGGGHTS data file, atom_style sphere, from specimen packing: "
-      << OneLine(packing.created_by, 120) << "\n\n"
+  out << name << " data file, atom_style sphere, from specimen packing: " << OneLine(packing.created_by, 120)
+      << "\n";
+  // The mass convention, in comment lines read_data skips (each under 256 characters).
+  if constexpr (Dim == 2) {
+    out << "# 2D masses: discs of thickness t = " << ExactDouble(disc_thickness_m) << " m, m = rho pi r^2 t with rho = "
+        << ExactDouble(density_kg_per_m3) << " kg/m^3 (this toolkit's)\n"
+        << "# for " << name << ", which gives "
+        << (code == GranularCode::kLiggghts ? "m = pi r^2 x density column (a disc per metre): column = rho t"
+                                            : "m = 4/3 pi r^3 x density column (a sphere): column = 3 rho t / (4 r)")
+        << "\n# read by " << (code == GranularCode::kLiggghts ? "LAMMPS" : "LIGGGHTS")
+        << " the masses differ: export-specimen --to " << (code == GranularCode::kLiggghts ? "lammps" : "liggghts")
+        << " writes its file\n"
+        << "# the input needs dimension 2 and boundary f f p before read_data, and fix enforce2d\n";
+  } else {
+    out << "# masses: spheres, m = 4/3 pi r^3 rho, rho = " << ExactDouble(density_kg_per_m3)
+        << " kg/m^3, in LAMMPS and LIGGGHTS alike\n";
+  }
+  out << "\n"
       << packing.size() << " atoms\n"
       << "1 atom types\n\n"
       << ExactDouble(lower[0]) << ' ' << ExactDouble(upper[0]) << " xlo xhi\n"
@@ -175,10 +206,43 @@ void WriteLiggghtsData(const Packing<Dim>& packing, std::ostream& out, double de
       << ExactDouble(z_lower) << ' ' << ExactDouble(z_upper) << " zlo zhi\n\n"
       << "Atoms # sphere\n\n";
   // atom-ID atom-type diameter density x y z
-  const std::string density = ExactDouble(density_kg_per_m3);
   for (int i = 0; i < packing.size(); ++i)
-    out << i + 1 << " 1 " << ExactDouble(2.0 * packing.radii[i]) << ' ' << density << ' '
+    out << i + 1 << " 1 " << ExactDouble(2.0 * packing.radii[i]) << ' '
+        << ExactDouble(GranularDensityColumn(code, Dim, density_kg_per_m3, disc_thickness_m, packing.radii[i])) << ' '
         << CentreXyz<Dim>(packing.centres[i], ' ') << '\n';
+}
+
+template <int Dim>
+void WriteLiggghtsData(const Packing<Dim>& packing, std::ostream& out, double density_kg_per_m3) {
+  WriteGranularData(packing, out, GranularCode::kLiggghts, density_kg_per_m3, 1.0);
+}
+
+template <int Dim>
+void WriteGranularInput(const Packing<Dim>& packing, std::ostream& out, GranularCode code,
+                        const std::string& data_file) {
+  RequireExportable(packing, GranularCodeName(code) + " input");
+  const bool liggghts = code == GranularCode::kLiggghts;
+  double smallest_radius = packing.radii.empty() ? 1.0 : packing.radii[0];
+  for (double r : packing.radii) smallest_radius = std::min(smallest_radius, r);
+  out << "# " << GranularCodeName(code) << " input for the specimen in " << OneLine(data_file, 200) << "\n"
+      << "# from specimen packing: " << OneLine(packing.created_by, 200) << "\n"
+      << "# Masses: this toolkit's (the data file's header says how its density column gives them).\n"
+      << "# No bonds: " << (liggghts ? "LIGGGHTS-PUBLIC 3.8.0 has no bond styles at all"
+                                     : "LAMMPS 29 Sep 2021 has central-force bonds only (bond_style harmonic with "
+                                       "fix bond/break), no tangential stiffness or shear strength; its granular "
+                                       "bonds (BPM) came later")
+      << ".\n# Add the contact model (pair_style gran...), walls and loading after read_data.\n"
+      << "units           si\n";
+  if constexpr (Dim == 2) out << "dimension       2\n";
+  out << "atom_style      sphere\n"
+      << "atom_modify     map array sort 0 0\n"
+      << "boundary        " << (Dim == 2 ? "f f p" : "f f f") << "\n"
+      << "newton          off\n"
+      << (liggghts ? "communicate     single vel yes\n" : "comm_modify     vel yes\n")
+      << "neighbor        " << ExactDouble(0.2 * smallest_radius) << " bin\n"
+      << "read_data       " << data_file << "\n"
+      << "fix             integrate all nve/sphere\n";
+  if constexpr (Dim == 2) out << "fix             plane all enforce2d\n";
 }
 
 template <int Dim>
@@ -198,6 +262,18 @@ void SaveLiggghtsData(const Packing<Dim>& packing, const std::string& path,
       path, [&](std::ostream& out) { WriteLiggghtsData(packing, out, density_kg_per_m3); });
 }
 
+template <int Dim>
+void SaveGranularSpecimen(const Packing<Dim>& packing, GranularCode code, double density_kg_per_m3,
+                          double disc_thickness_m, const std::string& input_path, const std::string& data_path) {
+  OutputGroup files;
+  files.Add(data_path, [&](std::ostream& out) {
+    WriteGranularData(packing, out, code, density_kg_per_m3, disc_thickness_m);
+  });
+  const std::string data_name = std::filesystem::path(data_path).filename().string();
+  files.Add(input_path, [&](std::ostream& out) { WriteGranularInput(packing, out, code, data_name); });
+  files.Commit();
+}
+
 template void RequireExportable<2>(const Packing<2>&, const std::string&);
 template void RequireExportable<3>(const Packing<3>&, const std::string&);
 template void WriteVtu<2>(const Packing<2>&, std::ostream&);
@@ -206,6 +282,14 @@ template void WriteYadeSphereList<2>(const Packing<2>&, std::ostream&);
 template void WriteYadeSphereList<3>(const Packing<3>&, std::ostream&);
 template void WriteLiggghtsData<2>(const Packing<2>&, std::ostream&, double);
 template void WriteLiggghtsData<3>(const Packing<3>&, std::ostream&, double);
+template void WriteGranularData<2>(const Packing<2>&, std::ostream&, GranularCode, double, double);
+template void WriteGranularData<3>(const Packing<3>&, std::ostream&, GranularCode, double, double);
+template void WriteGranularInput<2>(const Packing<2>&, std::ostream&, GranularCode, const std::string&);
+template void WriteGranularInput<3>(const Packing<3>&, std::ostream&, GranularCode, const std::string&);
+template void SaveGranularSpecimen<2>(const Packing<2>&, GranularCode, double, double, const std::string&,
+                                      const std::string&);
+template void SaveGranularSpecimen<3>(const Packing<3>&, GranularCode, double, double, const std::string&,
+                                      const std::string&);
 template void SaveVtu<2>(const Packing<2>&, const std::string&);
 template void SaveVtu<3>(const Packing<3>&, const std::string&);
 template void SaveYadeSphereList<2>(const Packing<2>&, const std::string&);

@@ -62,6 +62,14 @@ TEST_F(ExportSpecimenCommand, WritesTheEsysGeometryAndScript) {
   EXPECT_EQ(Read(scratch_.File("p_esys.geo")).rfind("LSMGeometry 1.2\n", 0), 0u);
 }
 
+TEST_F(ExportSpecimenCommand, WritesTheLammpsDataAndInput) {
+  const auto r = RunProgram("export-specimen", scratch_.File("p.packing") + " --to lammps --disc-thickness 0.01 "
+                                                   "--parameters " + scratch_.File("params.toml"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(Read(scratch_.File("p_lammps.in")).find("read_data       p_lammps.data\n"), std::string::npos);
+  EXPECT_NE(Read(scratch_.File("p_lammps.data")).find("rho = 2700 kg/m^3"), std::string::npos);
+}
+
 TEST_F(ExportSpecimenCommand, BadInputExitsTwoAndUnreadableInputThreeWritingNothing) {
   const std::string packing = scratch_.File("p.packing");
   const std::string out = " --output " + scratch_.File("out/s.py");
@@ -72,7 +80,8 @@ TEST_F(ExportSpecimenCommand, BadInputExitsTwoAndUnreadableInputThreeWritingNoth
     EXPECT_NE(r.output.find(message), std::string::npos) << arguments << "\n" << r.output;
     EXPECT_TRUE(std::filesystem::is_empty(scratch_.File("out"))) << arguments;
   };
-  expect(packing + " --to pfc", 2, "--to = 'pfc' is not allowed: use yade or esys");
+  expect(packing + " --to pfc", 2, "--to = 'pfc' is not allowed: use yade, esys, lammps or liggghts");
+  expect(packing + " --to lammps --disc-thickness 0", 2, "--disc-thickness = 0 is not allowed");
   expect(packing + " --to esys --parameters " + scratch_.File("ddem.toml"), 2, "particle_youngs_modulus");
   expect(packing + " --to yade --bond-gap-tolerance 3", 2, "bond_gap_tolerance = 3 is not allowed");
   expect(packing + " --to yade --parameters " + scratch_.File("ddem.toml"), 2, "particle_youngs_modulus");
