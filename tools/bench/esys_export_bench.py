@@ -21,11 +21,10 @@ import platform
 import re
 import subprocess
 import sys
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from yade_export_bench import CASES, PARAMETERS, material_table, run  # noqa: E402  the same specimens and sets
+from yade_export_bench import CASES, PARAMETERS, exported_specimen, run  # noqa: E402  the same specimens and sets
 
 MPI = ["mpirun", "--oversubscribe", "--bind-to", "none", "-np", "2", "esysparticle"]
 
@@ -51,14 +50,7 @@ def main():
     rows = []
     for dimension, domain, count in CASES:
         name = "p%dd" % dimension
-        run([os.path.join(tools, "generate-packing"), "--domain", domain, "--count", str(count), "--threads", "1",
-             "--no-pictures", "--quiet", "--output", out, "--name", name])
-        parameters = os.path.join(out, name + "_parameters.toml")
-        with open(parameters, "w") as f:
-            f.write(material_table(PARAMETERS[dimension]))
-        script = os.path.join(out, name + "_esys.py")
-        run([os.path.join(tools, "export-specimen"), os.path.join(out, name + ".packing"), "--to", "esys",
-             "--parameters", parameters, "--output", script, "--quiet"])
+        script = exported_specimen(tools, out, dimension, domain, count, "esys")
         with open(script) as f:
             header = f.read(4000)
         tension = re.search(r"tension limit RN\n#\s+within ([0-9.e+-]+) %", header).group(1)

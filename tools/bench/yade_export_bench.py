@@ -53,6 +53,21 @@ def material_table(p):
     return "[material]\n" + "".join("%s = %r\n" % (k, v) for k, v in p.items())
 
 
+def exported_specimen(tools, out, dimension, domain, count, target):
+    """Generates the packing p<D>d of the case, writes its parameter file and exports it with
+    export-specimen --to target; returns the script's path."""
+    name = "p%dd" % dimension
+    run([os.path.join(tools, "generate-packing"), "--domain", domain, "--count", str(count), "--threads", "1",
+         "--no-pictures", "--quiet", "--output", out, "--name", name])
+    parameters = os.path.join(out, name + "_parameters.toml")
+    with open(parameters, "w") as f:
+        f.write(material_table(PARAMETERS[dimension]))
+    script = os.path.join(out, "%s_%s.py" % (name, target))
+    run([os.path.join(tools, "export-specimen"), os.path.join(out, name + ".packing"), "--to", target,
+         "--parameters", parameters, "--output", script, "--quiet"])
+    return script
+
+
 def yade_json(script, arguments, out, path):
     _, seconds = run(["yade", "-x", "-n", script] + arguments + ["--json", path], cwd=out)
     with open(path) as f:
@@ -72,14 +87,7 @@ def main():
     rows = []
     for dimension, domain, count in CASES:
         name = "p%dd" % dimension
-        run([os.path.join(tools, "generate-packing"), "--domain", domain, "--count", str(count), "--threads", "1",
-             "--no-pictures", "--quiet", "--output", out, "--name", name])
-        parameters = os.path.join(out, name + "_parameters.toml")
-        with open(parameters, "w") as f:
-            f.write(material_table(PARAMETERS[dimension]))
-        script = os.path.join(out, name + "_yade.py")
-        run([os.path.join(tools, "export-specimen"), os.path.join(out, name + ".packing"), "--to", "yade",
-             "--parameters", parameters, "--output", script, "--quiet"])
+        script = exported_specimen(tools, out, dimension, domain, count, "yade")
         rest, _ = yade_json(script, ["--run", "at-rest", "--steps", "1000"], out,
                             os.path.join(out, name + "_yade_at_rest.json"))
         ucs, yade_seconds = yade_json(script, ["--run", "ucs", "--until-first-break",
