@@ -341,7 +341,7 @@ PicturesWritten WritePackingPictures(const Packing<Dim>& packing,
   const std::string radii_csv = output_prefix + "_radii.csv";
   const std::vector<RadiusBin> bins = RadiusHistogram(packing, options.radius_bins);
   WriteFileAtomically(radii_csv, [&](std::ostream& out) {
-    out << "bin_low,bin_high,count,volume_fraction\n";
+    out << "bin_low_m,bin_high_m,count,volume_fraction\n";
     for (const auto& bin : bins)
       out << ExactDouble(bin.low) << ',' << ExactDouble(bin.high) << ',' << bin.count << ','
           << ExactDouble(bin.volume) << '\n';
@@ -385,31 +385,39 @@ PicturesWritten WritePackingPictures(const Packing<Dim>& packing,
           "orientation rose was not drawn");
   }
 
-  // 4. The packing itself (2D), with contacts for small packings.
-  std::string particles_csv, contacts_csv;
-  if constexpr (Dim == 2) {
-    particles_csv = output_prefix + "_particles.csv";
-    WriteFileAtomically(particles_csv, [&](std::ostream& out) {
-      out << "centre_x,centre_y,radius\n";
-      for (int i = 0; i < packing.size(); ++i)
-        out << ExactDouble(packing.centres[i].x()) << ',' << ExactDouble(packing.centres[i].y())
-            << ',' << ExactDouble(packing.radii[i]) << '\n';
-    });
-    written.files.push_back(particles_csv);
-    if (packing.size() < options.contact_drawing_limit && !packing.contacts.empty()) {
-      contacts_csv = output_prefix + "_contacts.csv";
-      WriteFileAtomically(contacts_csv, [&](std::ostream& out) {
-        out << "particle_i,particle_j,centre_x_i,centre_y_i,centre_x_j,centre_y_j\n";
-        for (const auto& contact : packing.contacts) {
-          const Vector<2>& a = packing.centres[contact[0]];
-          const Vector<2>& b = packing.centres[contact[1]];
-          out << contact[0] << ',' << contact[1] << ',' << ExactDouble(a.x()) << ','
-              << ExactDouble(a.y()) << ',' << ExactDouble(b.x()) << ',' << ExactDouble(b.y())
-              << '\n';
-        }
-      });
-      written.files.push_back(contacts_csv);
+  // 4. The particles and, for small packings, the contacts (drawn in 2D). The columns are
+  // those of run-test's particles.csv, with z in 3D.
+  const std::vector<std::string> axes = Dim == 2 ? std::vector<std::string>{"x", "y"}
+                                                 : std::vector<std::string>{"x", "y", "z"};
+  auto write_centre = [&](std::ostream& out, int particle) {
+    for (int k = 0; k < Dim; ++k) out << ',' << ExactDouble(packing.centres[particle][k]);
+  };
+  const std::string particles_csv = output_prefix + "_particles.csv";
+  WriteFileAtomically(particles_csv, [&](std::ostream& out) {
+    for (const auto& axis : axes) out << axis << "_m,";
+    out << "radius_m\n";
+    for (int i = 0; i < packing.size(); ++i) {
+      for (int k = 0; k < Dim; ++k) out << ExactDouble(packing.centres[i][k]) << ',';
+      out << ExactDouble(packing.radii[i]) << '\n';
     }
+  });
+  written.files.push_back(particles_csv);
+  std::string contacts_csv;
+  if (packing.size() < options.contact_drawing_limit && !packing.contacts.empty()) {
+    contacts_csv = output_prefix + "_contacts.csv";
+    WriteFileAtomically(contacts_csv, [&](std::ostream& out) {
+      out << "i,j";
+      for (const char* end : {"i", "j"})
+        for (const auto& axis : axes) out << ',' << axis << '_' << end << "_m";
+      out << '\n';
+      for (const auto& contact : packing.contacts) {
+        out << contact[0] << ',' << contact[1];
+        write_centre(out, contact[0]);
+        write_centre(out, contact[1]);
+        out << '\n';
+      }
+    });
+    written.files.push_back(contacts_csv);
   }
 
   // 5. Pictures, from the files just written.

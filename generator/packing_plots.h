@@ -1,8 +1,9 @@
 #pragma once
 // Pictures of a packing, drawn by gnuplot from CSV files written first (docs/generator.md,
 // "Outputs"), so a user can restyle them from the same numbers:
-//   <prefix>_particles.csv, <prefix>_packing.png (2D only): the discs to scale, coloured
-//       by radius, with the domain outline; contacts as thin lines for small packings.
+//   <prefix>_particles.csv (x_m, y_m, [z_m,] radius_m) and, for small packings,
+//       <prefix>_contacts.csv (i, j and both centres); <prefix>_packing.png (2D only): the
+//       discs to scale, coloured by radius, with the domain outline and the contacts.
 //   <prefix>_radii.csv, <prefix>_radius_histogram.png: particle counts per radius bin and
 //       the share of the particle volume in each bin.
 //   <prefix>_orientation.csv, <prefix>_orientation_rose.png: the contact-orientation
@@ -27,8 +28,9 @@ struct PackingPicturesOptions {
   // Render the PNG files with gnuplot; false writes only the CSV files they are drawn from
   // (generate-packing --no-pictures).
   bool draw = true;
-  // Contacts are drawn (and <prefix>_contacts.csv written) only for packings of fewer
-  // particles than this: above it the lines are sub-pixel and slow to draw.
+  // Contacts are written to <prefix>_contacts.csv (and drawn, 2D) only for packings of fewer
+  // particles than this: above it the lines are sub-pixel and slow to draw, and the file
+  // large (the .packing file holds every contact).
   int contact_drawing_limit = 5000;
   // Width of the packing picture in pixels; the height follows the domain's aspect ratio.
   int packing_picture_width_px = 1000;

@@ -122,7 +122,7 @@ TEST(PackingPictures, TwoDimensionalPackingWritesEveryFile) {
   // volume fractions summing to 1.
   const auto radii = CsvRows(prefix + "_radii.csv");
   ASSERT_EQ(radii.size(), 16u);
-  EXPECT_EQ(radii[0], "bin_low,bin_high,count,volume_fraction");
+  EXPECT_EQ(radii[0], "bin_low_m,bin_high_m,count,volume_fraction");
   double count = 0.0, fraction = 0.0;
   for (size_t row = 1; row < radii.size(); ++row) {
     const auto numbers = CsvNumbers(radii[row]);
@@ -154,9 +154,15 @@ TEST(PackingPictures, TwoDimensionalPackingWritesEveryFile) {
 
   const auto particles = CsvRows(prefix + "_particles.csv");
   ASSERT_EQ(particles.size(), static_cast<size_t>(packing.size()) + 1);
-  EXPECT_EQ(particles[0], "centre_x,centre_y,radius");
+  EXPECT_EQ(particles[0], "x_m,y_m,radius_m");
   EXPECT_EQ(CsvNumbers(particles[1])[2], packing.radii[0]);
-  EXPECT_EQ(CsvRows(prefix + "_contacts.csv").size(), packing.contacts.size() + 1);
+  const auto contacts = CsvRows(prefix + "_contacts.csv");
+  ASSERT_EQ(contacts.size(), packing.contacts.size() + 1);
+  EXPECT_EQ(contacts[0], "i,j,x_i_m,y_i_m,x_j_m,y_j_m");
+  const auto contact = CsvNumbers(contacts[1]);
+  ASSERT_EQ(contact.size(), 6u);
+  EXPECT_EQ(contact[0], packing.contacts[0][0]);
+  EXPECT_EQ(contact[5], packing.centres[packing.contacts[0][1]].y());
 }
 
 TEST(PackingPictures, DiscAndPolygonDomainsAndEqualRadii) {
@@ -185,7 +191,7 @@ TEST(PackingPictures, DiscAndPolygonDomainsAndEqualRadii) {
   EXPECT_FALSE(Contains(written.files, directory.File("l_contacts.csv")));
 }
 
-TEST(PackingPictures, ThreeDimensionalPackingHasNoPackingPicture) {
+TEST(PackingPictures, ThreeDimensionalPackingWritesParticlesAndContactsButNoPackingPicture) {
   ScratchDirectory directory;
   Packing<3> packing(Domain<3>::Box(Vector<3>(0, 0, 0), Vector<3>(1, 1, 1)));
   std::mt19937 random(4);
@@ -199,8 +205,21 @@ TEST(PackingPictures, ThreeDimensionalPackingHasNoPackingPicture) {
   const PicturesWritten written =
       WritePackingPictures(packing, HandMadeMetrics(packing, 24), prefix);
   EXPECT_TRUE(written.warnings.empty()) << JoinWarnings(written);
-  EXPECT_FALSE(Contains(written.files, prefix + "_particles.csv"));
   EXPECT_FALSE(Contains(written.files, prefix + "_packing.png"));
+  // The particles and contacts with z, as in 2D.
+  const auto particles = CsvRows(prefix + "_particles.csv");
+  ASSERT_EQ(particles.size(), 101u);
+  EXPECT_EQ(particles[0], "x_m,y_m,z_m,radius_m");
+  EXPECT_EQ(CsvNumbers(particles[100]),
+            (std::vector<double>{packing.centres[99].x(), packing.centres[99].y(),
+                                 packing.centres[99].z(), packing.radii[99]}));
+  const auto contacts = CsvRows(prefix + "_contacts.csv");
+  ASSERT_EQ(contacts.size(), 100u);
+  EXPECT_EQ(contacts[0], "i,j,x_i_m,y_i_m,z_i_m,x_j_m,y_j_m,z_j_m");
+  EXPECT_EQ(CsvNumbers(contacts[99]),
+            (std::vector<double>{98, 99, packing.centres[98].x(), packing.centres[98].y(),
+                                 packing.centres[98].z(), packing.centres[99].x(),
+                                 packing.centres[99].y(), packing.centres[99].z()}));
   ExpectPng(prefix + "_radius_histogram.png");
   ExpectPng(prefix + "_orientation_rose.png");
   const auto orientation = CsvRows(prefix + "_orientation.csv");
