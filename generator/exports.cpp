@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/atomic_file.h"
+#include "common/element_kind.h"
 #include "common/error.h"
 
 namespace specimen {
@@ -87,8 +88,8 @@ void WriteVtu(const Packing<Dim>& packing, std::ostream& out) {
 
   out << "      <CellData Scalars=\"kind\">\n"
       << "        <DataArray type=\"Int32\" Name=\"kind\" format=\"ascii\">\n";
-  for (int i = 0; i < particle_count; ++i) out << "0\n";
-  for (size_t c = 0; c < contact_count; ++c) out << "1\n";
+  for (int i = 0; i < particle_count; ++i) out << Code(ElementKind::kParticle) << '\n';
+  for (size_t c = 0; c < contact_count; ++c) out << Code(ElementKind::kContact) << '\n';
   out << "        </DataArray>\n"
       << "      </CellData>\n";
 

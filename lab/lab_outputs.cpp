@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/atomic_file.h"
+#include "common/element_kind.h"
 #include "common/error.h"
 #include "common/plot.h"
 #include "specimen_version.h"
@@ -21,6 +22,18 @@ std::string Exact(double value) {
   char buffer[32];
   std::snprintf(buffer, sizeof(buffer), "%.17g", value);
   return buffer;
+}
+
+// The code of a bond in the snapshots and the crack files (common/element_kind.h).
+int BondKindCode(ContactState state) {
+  switch (state) {
+    case ContactState::kBrokenInTension:
+      return Code(ElementKind::kBrokenInTension);
+    case ContactState::kBrokenInShear:
+      return Code(ElementKind::kBrokenInShear);
+    default:
+      return Code(ElementKind::kContact);
+  }
 }
 
 int LoadingAxis(const LabTestResult& r) {
@@ -84,9 +97,10 @@ void WriteCurveCsv(const LabTestResult& r, std::ostream& out) {
 }
 
 void WriteBondsCsv(const LabTestResult& r, std::ostream& out) {
-  out << "i,j,mode,time_s,boundary_strain,x_m,y_m,z_m\n";
+  out << "i,j,kind,time_s,boundary_strain,x_m,y_m,z_m\n";
   for (const BrokenBond& b : r.broken_bonds)
-    out << b.pair[0] << ',' << b.pair[1] << ',' << (b.in_tension ? "tension" : "shear") << ','
+    out << b.pair[0] << ',' << b.pair[1] << ','
+        << Code(b.in_tension ? ElementKind::kBrokenInTension : ElementKind::kBrokenInShear) << ','
         << Exact(b.time_s) << ',' << Exact(b.boundary_strain) << ',' << Exact(b.midpoint.x())
         << ',' << Exact(b.midpoint.y()) << ',' << Exact(b.midpoint.z()) << '\n';
 }
@@ -111,10 +125,8 @@ void WriteSnapshotVtu(const LabSnapshot& s, const Packing<Dim>& packing, std::os
     out << Exact(d.x()) << ' ' << Exact(d.y()) << ' ' << Exact(d.z()) << '\n';
   out << "</DataArray>\n</PointData>\n<CellData Scalars=\"kind\">\n"
       << "<DataArray type=\"Int32\" Name=\"kind\" format=\"ascii\">\n";
-  for (size_t q = 0; q < points; ++q) out << "0\n";
-  for (const ContactState state : s.bond_state)
-    out << (state == ContactState::kBonded ? 1 : state == ContactState::kBrokenInTension ? 2 : 3)
-        << '\n';
+  for (size_t q = 0; q < points; ++q) out << Code(ElementKind::kParticle) << '\n';
+  for (const ContactState state : s.bond_state) out << BondKindCode(state) << '\n';
   out << "</DataArray>\n</CellData>\n<Points>\n"
       << "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
   for (const auto& x : s.position) out << Exact(x.x()) << ' ' << Exact(x.y()) << ' ' << Exact(x.z()) << '\n';
@@ -208,9 +220,10 @@ std::string CracksScript(const LabSnapshot& end, const Packing<2>& packing,
     << "set style fill solid 1.0 noborder\n"
     << "plot " << GnuplotQuote(particles_csv) << " using 1:2:3 with circles lc rgb '#c8c8c8', "
     << GnuplotQuote(cracks_csv)
-    << " using ($5==0?$1:NaN):2:($3-$1):($4-$2) with vectors nohead lw 1.5 lc rgb '#d62728', "
-    << GnuplotQuote(cracks_csv)
-    << " using ($5==1?$1:NaN):2:($3-$1):($4-$2) with vectors nohead lw 1.5 lc rgb '#1f4fb4'\n";
+    << " using ($5==" << Code(ElementKind::kBrokenInTension)
+    << "?$1:NaN):2:($3-$1):($4-$2) with vectors nohead lw 1.5 lc rgb '#d62728', "
+    << GnuplotQuote(cracks_csv) << " using ($5==" << Code(ElementKind::kBrokenInShear)
+    << "?$1:NaN):2:($3-$1):($4-$2) with vectors nohead lw 1.5 lc rgb '#1f4fb4'\n";
   return s.str();
 }
 
@@ -253,14 +266,13 @@ LabOutputsWritten WriteLabOutputs(const LabTestResult& r, const Packing<Dim>& pa
             << Exact(packing.radii[q]) << '\n';
     });
     group.Add(base + "_cracks.csv", [&](std::ostream& out) {
-      out << "x1_m,y1_m,x2_m,y2_m,mode\n";
+      out << "x_i_m,y_i_m,x_j_m,y_j_m,kind\n";
       for (size_t b = 0; b < end.bonds.size(); ++b) {
         if (end.bond_state[b] == ContactState::kBonded) continue;
         const auto& x1 = end.position[end.bonds[b][0]];
         const auto& x2 = end.position[end.bonds[b][1]];
         out << Exact(x1.x()) << ',' << Exact(x1.y()) << ',' << Exact(x2.x()) << ','
-            << Exact(x2.y()) << ',' << (end.bond_state[b] == ContactState::kBrokenInShear ? 1 : 0)
-            << '\n';
+            << Exact(x2.y()) << ',' << BondKindCode(end.bond_state[b]) << '\n';
       }
     });
   }

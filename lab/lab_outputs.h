@@ -3,7 +3,7 @@
 // calibrator's verification run writes the same set:
 //   <dir>/<name>_curve.csv          the sampled curve: strains (Bagi, platen), stresses,
 //                                   control quantity, broken bonds, energy terms
-//   <dir>/<name>_bonds.csv          the broken bonds: pair, mode, time, strain, midpoint
+//   <dir>/<name>_bonds.csv          the broken bonds: pair, kind, time, strain, midpoint
 //   <dir>/<name>_summary.json       the result (LabTestResult::ToJson) and the caller's report
 //   <dir>/<name>_stress_strain.png  the stress-strain curve (gnuplot, from the curve CSV)
 //   <dir>/<name>_cracks.png (2D)    the specimen at the end with the broken bonds drawn
@@ -12,7 +12,8 @@
 //   <dir>/<name>_peak.vtu, _end.vtu ParaView snapshots at the peak and at the end: particles
 //                                   (radius, displacement) and every initial bond as a line
 //                                   with its state (cell array "kind": 0 particle, 1 intact
-//                                   bond, 2 broken in tension, 3 broken in shear)
+//                                   bond, 2 broken in tension, 3 broken in shear, the codes
+//                                   of common/element_kind.h, also in the CSV files)
 // The data files are written to temporary names and renamed together (common/atomic_file.h);
 // the pictures come last, and a missing gnuplot only costs the pictures (a warning).
 // Strains are tension positive in the tensor columns; the "axial" columns are positive in

@@ -44,6 +44,35 @@ fs::path Scratch(const std::string& name) {
 
 bool MissingOrEmpty(const fs::path& dir) { return !fs::exists(dir) || fs::is_empty(dir); }
 
+std::vector<std::string> Lines(const fs::path& path) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// The integer in column `column` (from 0) of a CSV row.
+int Field(const std::string& row, int column) {
+  size_t start = 0;
+  for (int k = 0; k < column; ++k) start = row.find(',', start) + 1;
+  return std::stoi(row.substr(start, row.find(',', start) - start));
+}
+
+// The values of the VTU cell array "kind" (ascii, one per line).
+std::vector<int> VtuKinds(const fs::path& path) {
+  std::vector<int> kinds;
+  bool inside = false;
+  for (const std::string& line : Lines(path)) {
+    if (line.find("Name=\"kind\"") != std::string::npos) {
+      inside = true;
+    } else if (inside) {
+      if (line.find("</DataArray>") != std::string::npos) break;
+      kinds.push_back(std::stoi(line));
+    }
+  }
+  return kinds;
+}
+
 class RunTestCommand : public testing::Test {
  protected:
   // A 300-disc 10 x 10 mm packing, made once (generate-packing, as a user would).
@@ -106,6 +135,31 @@ TEST_F(RunTestCommand, UcsWritesTheReportAndFiles) {
   EXPECT_TRUE(j["result"]["peak_reached"].get<bool>());
   EXPECT_GT(j["result"]["peak_stress_pa"].get<double>(), 0.0);
   EXPECT_TRUE(j["result"]["elastic"]["measured"].get<bool>());
+
+  // One code table for the broken bonds: 2 tension, 3 shear, in bonds.csv, cracks.csv and
+  // the VTU cell array "kind" (0 particle, 1 intact bond).
+  const std::vector<std::string> bonds = Lines(out / "t_bonds.csv");
+  ASSERT_GT(bonds.size(), 1u) << "the test breaks bonds";
+  EXPECT_EQ(bonds[0], "i,j,kind,time_s,boundary_strain,x_m,y_m,z_m");
+  std::vector<int> listed(4, 0);
+  for (size_t k = 1; k < bonds.size(); ++k) ++listed.at(Field(bonds[k], 2));
+  const std::vector<std::string> cracks = Lines(out / "t_cracks.csv");
+  EXPECT_EQ(cracks[0], "x_i_m,y_i_m,x_j_m,y_j_m,kind");
+  std::vector<int> drawn(4, 0);
+  for (size_t k = 1; k < cracks.size(); ++k) ++drawn.at(Field(cracks[k], 4));
+  std::vector<int> cells(4, 0);
+  for (int code : VtuKinds(out / "t_end.vtu")) ++cells.at(code);
+  EXPECT_EQ(listed[0] + listed[1], 0);
+  EXPECT_EQ(drawn[0] + drawn[1], 0);
+  EXPECT_EQ(listed[2] + listed[3], j["result"]["broken_bonds"]["listed"].get<int>());
+  EXPECT_EQ(drawn[2], j["result"]["broken_bonds"]["tension"].get<int>());
+  EXPECT_EQ(drawn[3], j["result"]["broken_bonds"]["shear"].get<int>());
+  for (int code : {2, 3}) {
+    EXPECT_EQ(cells[code], drawn[code]) << code;
+    EXPECT_LE(listed[code], drawn[code]) << code;
+  }
+  EXPECT_GT(cells[0], 0);
+  EXPECT_GT(cells[1], 0);
 }
 
 // Bad input: status 2, the message names the problem, no output directory is created.
