@@ -731,6 +731,7 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     stability.proposed_time_step_s = best->ucs.time_step_s;
     stability.locate_mode = false;
     const StabilitySummary s = AnalyseStability<Dim>(specimens.ucs, scene, stability);
+    summary.stability_judged = true;
     summary.stability_verdict = s.verdict;
     summary.stability_binding_limit = s.binding_limit;
     summary.stability_margin_percent = s.margin_percent;

@@ -176,7 +176,9 @@ struct CalibrationSummary {
   bool converged = false;       // every honoured target within tolerance
   bool tensile_honoured = true; // false when sigma_c / sigma_t is out of reach
   bool gave_up = false;         // a property was given up (out of reach): exit status 4
-  // Stability of the final set on the UCS specimen.
+  // Stability of the final set on the UCS specimen; not judged (no final set, or not on this
+  // rank): the verdict says so, the message why, and the numbers are not reported.
+  bool stability_judged = false;
   std::string stability_verdict, stability_binding_limit, stability_message;
   double stability_margin_percent = 0.0;
   double critical_time_step_s = 0.0, time_step_s = 0.0, spectral_radius = 0.0;

@@ -192,10 +192,14 @@ std::string CalibrationSummary::FullReport() const {
                                                      Num("%.6g", final_ucs.density_used_kg_per_m3) + ")"
                                                : ""));
   out << "stability (UCS specimen, final set)\n";
-  row("verdict", stability_verdict + " (binding: " + stability_binding_limit + ", margin " +
-                     Num("%.1f %%", stability_margin_percent) + ")");
-  row("time step used / critical", Num("%.4g s", time_step_s) + " / " + Num("%.4g s", critical_time_step_s));
-  if (material.particle_youngs_modulus_pa) row("rho(B)", Num("%.4f", spectral_radius));
+  if (stability_judged) {
+    row("verdict", stability_verdict + " (binding: " + stability_binding_limit + ", margin " +
+                       Num("%.1f %%", stability_margin_percent) + ")");
+    row("time step used / critical", Num("%.4g s", time_step_s) + " / " + Num("%.4g s", critical_time_step_s));
+    if (material.particle_youngs_modulus_pa) row("rho(B)", Num("%.4f", spectral_radius));
+  } else {
+    row("verdict", stability_verdict + ": " + stability_message);
+  }
   for (const std::string& note : notes) out << "  note: " << note << "\n";
   row("wall time", Num("%.1f s", seconds));
   return out.str();
@@ -293,13 +297,16 @@ nlohmann::json CalibrationSummary::ToJson() const {
     parameters["particle_poisson_ratio"] = material.particle_poisson_ratio;
   }
   j["parameters"] = parameters;
+  // Not judged: no numbers (null, not 0); the message says why.
+  auto judged = [&](double value) { return stability_judged ? nlohmann::json(value) : nlohmann::json(); };
   j["stability"] = {{"verdict", stability_verdict},
                     {"binding_limit", stability_binding_limit},
-                    {"margin_percent", stability_margin_percent},
+                    {"margin_percent", judged(stability_margin_percent)},
                     {"message", stability_message},
-                    {"critical_time_step_s", critical_time_step_s},
-                    {"time_step_s", time_step_s},
-                    {"spectral_radius", spectral_radius}};
+                    {"critical_time_step_s", judged(critical_time_step_s)},
+                    {"time_step_s", judged(time_step_s)},
+                    {"spectral_radius", material.particle_youngs_modulus_pa ? judged(spectral_radius)
+                                                                            : nlohmann::json()}};
   j["notes"] = notes;
   j["seconds"] = seconds;
   j["code_version"] = kVersion;

@@ -117,12 +117,14 @@ nlohmann::json ConfinedEnvelope::ToJson() const {
   j["confining_stress_pa"] = confining_stress_pa;
   j["tests"] = nlohmann::json::array();
   for (const LabTestResult& t : tests) j["tests"].push_back(t.ToJson());
+  // Without a fit its numbers are null, not 0: the message says why there is none.
+  auto fitted = [&](double value) { return fit.valid ? nlohmann::json(value) : nlohmann::json(nullptr); };
   j["fit"] = {{"valid", fit.valid},
-              {"intercept_pa", fit.intercept_pa},
-              {"slope", fit.slope},
-              {"cohesion_pa", fit.cohesion_pa},
-              {"friction_angle_deg", fit.friction_angle_deg},
-              {"rms_residual_pa", fit.rms_residual_pa},
+              {"intercept_pa", fitted(fit.intercept_pa)},
+              {"slope", fitted(fit.slope)},
+              {"cohesion_pa", fitted(fit.cohesion_pa)},
+              {"friction_angle_deg", fitted(fit.friction_angle_deg)},
+              {"rms_residual_pa", fitted(fit.rms_residual_pa)},
               {"points", fit.points},
               {"message", fit_message}};
   return j;

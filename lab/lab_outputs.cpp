@@ -333,8 +333,8 @@ LabOutputsWritten WriteEnvelopeOutputs(const ConfinedEnvelope& envelope,
       const double s3 = envelope.confining_stress_pa[k];
       out << Exact(s3) << ',' << Exact(envelope.tests[k].peak_stress_pa) << ','
           << (envelope.tests[k].peak_reached ? 1 : 0) << ','
-          << Exact(envelope.fit.valid ? envelope.fit.intercept_pa + envelope.fit.slope * s3 : 0.0)
-          << '\n';
+          << (envelope.fit.valid ? Exact(envelope.fit.intercept_pa + envelope.fit.slope * s3) : "")
+          << '\n';  // empty without a fit
     }
   });
   group.Add(base + "_summary.json", [&](std::ostream& out) { out << summary.dump(2) << '\n'; });

@@ -159,6 +159,8 @@ std::string LabTestResult::FullReport() const {
             Format("%.3g %%", 100 * quasi_static.modulus_change) + ", peak change " +
             Format("%.3g %%", 100 * quasi_static.peak_change) + " (tolerance " +
             Format("%.3g %%", 100 * quasi_static.tolerance) + ")");
+  else
+    row("quasi-static check (half rate)", "not run: " + quasi_static.not_run_reason);
   // Only the peak moved: on a small specimen one cascade decides it, and its path noise
   // (2,059 discs: 28.4-32.2 MPa over five runs, not monotonic in the rate) can exceed the
   // tolerance; 5,064 discs: 0.3-1.2 % (README, "The half-rate check needs ...").
@@ -236,12 +238,17 @@ nlohmann::json LabTestResult::ToJson() const {
   j["broken_bonds"] = {{"tension", broken_in_tension},
                        {"shear", broken_in_shear},
                        {"listed", broken_bonds.size()}};
-  j["quasi_static_check"] = {{"performed", quasi_static.performed},
-                             {"half_rate_group", quasi_static.half_rate_group},
-                             {"modulus_change", quasi_static.modulus_change},
-                             {"peak_change", quasi_static.peak_change},
-                             {"tolerance", quasi_static.tolerance},
-                             {"passed", quasi_static.passed}};
+  // A check not run has no outcome: "passed" is null, not false, and the reason is given.
+  const nlohmann::json nothing = nullptr;
+  const bool run = quasi_static.performed;
+  j["quasi_static_check"] = {
+      {"status", !run ? "not run" : quasi_static.passed ? "passed" : "failed"},
+      {"passed", run ? nlohmann::json(quasi_static.passed) : nothing},
+      {"reason", run ? nothing : nlohmann::json(quasi_static.not_run_reason)},
+      {"half_rate_group", run ? nlohmann::json(quasi_static.half_rate_group) : nothing},
+      {"modulus_change", run ? nlohmann::json(quasi_static.modulus_change) : nothing},
+      {"peak_change", run ? nlohmann::json(quasi_static.peak_change) : nothing},
+      {"tolerance", quasi_static.tolerance}};
   j["energy"] = energy.ToJson();
   j["samples"] = curve.size();
   j["wall_seconds"] = wall_seconds;

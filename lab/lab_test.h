@@ -338,7 +338,9 @@ struct ElasticConstantsMeasured {
 };
 
 struct QuasiStaticCheck {
+  // Not performed: neither passed nor failed, and the reports say so ("not run", with why).
   bool performed = false;
+  std::string not_run_reason = "not requested (quasi_static_check = false or --no-quasi-static-check)";
   double half_rate_group = 0.0;
   // Relative changes of E (isotropic test: K; shear: G) and of the peak (strength tests)
   // at half the rate; 0 when not applicable.

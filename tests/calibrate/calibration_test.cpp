@@ -183,8 +183,16 @@ TEST(CalibrateToMaterial, FailedRoundsAreReportedAndWithoutAResultNoParametersAr
     summary.rounds.push_back(v);
   }
   summary.best_round = 0;  // no result
+  summary.stability_verdict = "not judged";
+  summary.stability_binding_limit = "-";
+  summary.stability_message = "no strength round measured: no final set";
   EXPECT_NE(summary.BriefReport().find("no result"), std::string::npos) << summary.BriefReport();
   const std::string text = summary.FullReport();
+  // A stability verdict not reached gives no margin or time step, in the text or the JSON.
+  EXPECT_NE(text.find("not judged: no strength round measured"), std::string::npos) << text;
+  EXPECT_EQ(text.find("margin 0.0 %"), std::string::npos) << text;
+  EXPECT_TRUE(summary.ToJson()["stability"]["margin_percent"].is_null());
+  EXPECT_TRUE(summary.ToJson()["stability"]["critical_time_step_s"].is_null());
   EXPECT_NE(text.find("round 2 FAILED: Rt/Rn 7.9, Rn 18000 N"), std::string::npos) << text;
   EXPECT_NE(text.find(failure), std::string::npos) << text;
   EXPECT_NE(text.find("no result"), std::string::npos) << text;

@@ -135,6 +135,10 @@ TEST_F(RunTestCommand, UcsWritesTheReportAndFiles) {
   EXPECT_TRUE(j["result"]["peak_reached"].get<bool>());
   EXPECT_GT(j["result"]["peak_stress_pa"].get<double>(), 0.0);
   EXPECT_TRUE(j["result"]["elastic"]["measured"].get<bool>());
+  // Not asked for: the quasi-static check is reported as not run, in the JSON and the report.
+  EXPECT_EQ(j["result"]["quasi_static_check"]["status"], "not run");
+  EXPECT_TRUE(j["result"]["quasi_static_check"]["passed"].is_null());
+  EXPECT_NE(r.output.find("not run: not requested"), std::string::npos) << r.output;
 
   // One code table for the broken bonds: 2 tension, 3 shear, in bonds.csv, cracks.csv and
   // the VTU cell array "kind" (0 particle, 1 intact bond).
