@@ -12,6 +12,7 @@
 #include "common/error.h"
 #include "common/plot.h"
 #include "common/ranks.h"
+#include "common/unit_names.h"
 #include "generator/packing_io.h"
 #include "lab/lab_outputs.h"
 #include "specimen_version.h"
@@ -59,7 +60,7 @@ void WriteScene(std::ostream& out, const std::string& packing_file, const Materi
 void WriteSweepCsv(const StoredMaps& maps, std::ostream& out) {
   out << "index,kt_over_kn,rt_over_rn,friction,kn_over_ep_l,particle_poisson_ratio,ok,youngs_modulus_pa,"
          "poisson_ratio,ucs_pa,tensile_strength_pa,strength_ratio,elastic_group,compressive_group,"
-         "tensile_group,seconds\n";
+         "tensile_group,wall_time_s\n";
   for (const SweepPoint& p : maps.points) {
     const MicroRatios& r = p.ratios;
     out << p.index << "," << r.tangential_to_normal_stiffness << "," << r.shear_to_tensile_strength << ","
@@ -147,9 +148,12 @@ std::string CsvText(const std::string& text) {
 // Every round; a failed one leaves its measured fields empty (gnuplot skips them) and says
 // why in the last column.
 void WriteVerificationCsv(const CalibrationSummary& summary, std::ostream& out) {
-  out << "round,best,accepted,kn,kt,rn,rt,friction,particle_youngs_modulus_pa,particle_poisson_ratio,youngs_modulus_pa,"
+  const int dim = summary.dimension;
+  out << "round,best,accepted," << PerThickness("kn_n_per_m", dim) << ',' << PerThickness("kt_n_per_m", dim) << ','
+      << PerThickness("rn_n", dim) << ',' << PerThickness("rt_n", dim)
+      << ",friction,particle_youngs_modulus_pa,particle_poisson_ratio,youngs_modulus_pa,"
          "poisson_ratio,ucs_pa,tensile_strength_pa,predicted_ucs_pa,predicted_tensile_strength_pa,error_youngs,"
-         "error_poisson,error_ucs,error_tensile,seconds,failed,failure\n";
+         "error_poisson,error_ucs,error_tensile,wall_time_s,failed,failure\n";
   for (const VerificationRound& v : summary.rounds) {
     const MaterialParameters& m = v.material;
     auto measured = [&](double value) {
@@ -160,7 +164,8 @@ void WriteVerificationCsv(const CalibrationSummary& summary, std::ostream& out) 
     out << v.round << "," << (v.round == summary.best_round ? 1 : 0) << "," << (v.accepted ? 1 : 0) << ","
         << Exact(m.normal_stiffness_n_per_m) << "," << Exact(m.tangential_stiffness_n_per_m) << ","
         << Exact(m.bond_tensile_strength_n) << "," << Exact(m.bond_shear_strength_n) << ","
-        << Exact(m.friction_coefficient) << "," << (m.particle_youngs_modulus_pa ? *m.particle_youngs_modulus_pa : 0.0)
+        << Exact(m.friction_coefficient) << ","
+        << (m.particle_youngs_modulus_pa ? Exact(*m.particle_youngs_modulus_pa) : "")  // empty: rigid particles
         << "," << m.particle_poisson_ratio << "," << v.youngs_modulus_pa << "," << v.poisson_ratio << ","
         << measured(v.ucs_pa) << "," << measured(v.tensile_strength_pa) << "," << v.predicted_ucs_pa << ","
         << v.predicted_tensile_strength_pa << "," << v.error_youngs << "," << v.error_poisson << ","
@@ -170,7 +175,8 @@ void WriteVerificationCsv(const CalibrationSummary& summary, std::ostream& out) 
 }
 
 void WriteElasticRunsCsv(const CalibrationSummary& summary, std::ostream& out) {
-  out << "run,purpose,kt_over_kn,kn_over_ep_l,particle_poisson_ratio,kn,youngs_modulus_pa,poisson_ratio,seconds\n";
+  out << "run,purpose,kt_over_kn,kn_over_ep_l,particle_poisson_ratio," << PerThickness("kn_n_per_m", summary.dimension)
+      << ",youngs_modulus_pa,poisson_ratio,wall_time_s\n";
   int k = 0;
   for (const ElasticRun& r : summary.solution.elastic_runs)
     out << ++k << "," << r.purpose << "," << r.query.ratios.tangential_to_normal_stiffness << ","

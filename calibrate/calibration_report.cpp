@@ -2,10 +2,12 @@
 // (calibration.h).
 #include <cstdio>
 #include <sstream>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
 #include "calibrate/calibration.h"
+#include "common/unit_names.h"
 #include "specimen_version.h"
 
 namespace specimen {
@@ -29,6 +31,21 @@ nlohmann::json RatiosJson(const MicroRatios& r) {
           {"friction", r.friction_coefficient},
           {"kn_over_ep_l", r.normal_stiffness_to_particle},
           {"particle_poisson_ratio", r.particle_poisson_ratio}};
+}
+
+// The packing descriptors with their units in the names; the stored maps keep the names of
+// DescriptorsToJson (dimensionless_groups.h), which old map files are read by.
+nlohmann::json DescriptorsReportJson(const PackingDescriptors& d) {
+  nlohmann::json j = DescriptorsToJson(d);
+  for (const auto& [stored, reported] : {std::pair<const char*, const char*>{"mean_radius", "mean_radius_m"},
+                                         {"mean_radius_squared", "mean_radius_squared_m2"},
+                                         {"mean_radius_cubed", "mean_radius_cubed_m3"},
+                                         {"mean_branch_length", "mean_branch_length_m"},
+                                         {"mean_branch_length_squared", "mean_branch_length_squared_m2"}}) {
+    j[reported] = j.at(stored);
+    j.erase(stored);
+  }
+  return j;
 }
 
 }  // namespace
@@ -210,7 +227,7 @@ nlohmann::json CalibrationSummary::ToJson() const {
   j["dimension"] = dimension;
   j["target"] = TargetMaterialToJson(target);
   j["model"] = {{"requested", model_requested}, {"used", model_used}, {"reason", model_reason}};
-  j["specimens"] = {{"ucs", DescriptorsToJson(ucs_descriptors)}, {"bts", DescriptorsToJson(bts_descriptors)}};
+  j["specimens"] = {{"ucs", DescriptorsReportJson(ucs_descriptors)}, {"bts", DescriptorsReportJson(bts_descriptors)}};
   int anchors = 0;
   for (const VerifiedPoint& v : maps.verified) anchors += v.origin == "anchor" ? 1 : 0;
   j["maps"] = {{"file", maps_path},
@@ -218,7 +235,7 @@ nlohmann::json CalibrationSummary::ToJson() const {
                {"code_version", maps.code_version},
                {"created_utc", maps.created_utc},
                {"sweep_points", maps.points.size()},
-               {"sweep_seconds", sweep_seconds},
+               {"sweep_wall_time_s", sweep_seconds},
                {"transfer_anchors", anchors},
                {"stored_measurements_used", stored_measurements},
                {"fit_leave_one_out_rms",
@@ -235,10 +252,10 @@ nlohmann::json CalibrationSummary::ToJson() const {
   for (const ElasticRun& r : solution.elastic_runs)
     j["elastic_runs"].push_back({{"purpose", r.purpose},
                                  {"ratios", RatiosJson(r.query.ratios)},
-                                 {"kn", r.query.normal_stiffness},
+                                 {PerThickness("kn_n_per_m", dimension), r.query.normal_stiffness},
                                  {"youngs_modulus_pa", r.measured.youngs_modulus_pa},
                                  {"poisson_ratio", r.measured.poisson_ratio},
-                                 {"seconds", r.measured.seconds}});
+                                 {"wall_time_s", r.measured.seconds}});
   j["verification"] = nlohmann::json::array();
   // A failed round measured no strength: those fields are null, `failure` says why.
   auto measured = [](const VerificationRound& v, double value) {
@@ -251,10 +268,10 @@ nlohmann::json CalibrationSummary::ToJson() const {
                                  {"best", v.round == best_round},
                                  {"accepted", v.accepted},
                                  {"ratios", RatiosJson(v.ratios)},
-                                 {"kn", v.material.normal_stiffness_n_per_m},
-                                 {"kt", v.material.tangential_stiffness_n_per_m},
-                                 {"rn", v.material.bond_tensile_strength_n},
-                                 {"rt", v.material.bond_shear_strength_n},
+                                 {PerThickness("kn_n_per_m", dimension), v.material.normal_stiffness_n_per_m},
+                                 {PerThickness("kt_n_per_m", dimension), v.material.tangential_stiffness_n_per_m},
+                                 {PerThickness("rn_n", dimension), v.material.bond_tensile_strength_n},
+                                 {PerThickness("rt_n", dimension), v.material.bond_shear_strength_n},
                                  {"youngs_modulus_pa", v.youngs_modulus_pa},
                                  {"poisson_ratio", v.poisson_ratio},
                                  {"own_peak_secants", {{"youngs_modulus_pa", measured(v, v.own_peak_youngs_modulus_pa)},
@@ -268,7 +285,7 @@ nlohmann::json CalibrationSummary::ToJson() const {
                                    {"poisson_ratio", v.error_poisson},
                                    {"ucs", measured(v, v.error_ucs)},
                                    {"tensile_strength", measured(v, v.error_tensile)}}},
-                                 {"seconds", v.seconds},
+                                 {"wall_time_s", v.seconds},
                                  {"next", v.correction}});
     if (v.material.particle_youngs_modulus_pa) {
       j["verification"].back()["particle_youngs_modulus_pa"] = *v.material.particle_youngs_modulus_pa;
@@ -286,10 +303,10 @@ nlohmann::json CalibrationSummary::ToJson() const {
   j["tensile_honoured"] = tensile_honoured;
   j["given_up"] = solution.reach.given_up;
   j["replans"] = solution.replans;
-  nlohmann::json parameters = {{"normal_stiffness_n_per_m", material.normal_stiffness_n_per_m},
-                               {"tangential_stiffness_n_per_m", material.tangential_stiffness_n_per_m},
-                               {"bond_tensile_strength_n", material.bond_tensile_strength_n},
-                               {"bond_shear_strength_n", material.bond_shear_strength_n},
+  nlohmann::json parameters = {{PerThickness("normal_stiffness_n_per_m", dimension), material.normal_stiffness_n_per_m},
+                               {PerThickness("tangential_stiffness_n_per_m", dimension), material.tangential_stiffness_n_per_m},
+                               {PerThickness("bond_tensile_strength_n", dimension), material.bond_tensile_strength_n},
+                               {PerThickness("bond_shear_strength_n", dimension), material.bond_shear_strength_n},
                                {"friction_coefficient", material.friction_coefficient},
                                {"density_kg_per_m3", material.density_kg_per_m3}};
   if (material.particle_youngs_modulus_pa) {
@@ -308,7 +325,7 @@ nlohmann::json CalibrationSummary::ToJson() const {
                     {"spectral_radius", material.particle_youngs_modulus_pa ? judged(spectral_radius)
                                                                             : nlohmann::json()}};
   j["notes"] = notes;
-  j["seconds"] = seconds;
+  j["wall_time_s"] = seconds;
   j["code_version"] = kVersion;
   return j;
 }

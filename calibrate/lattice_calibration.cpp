@@ -351,7 +351,7 @@ nlohmann::json LatticeCalibrationSummary::ToJson() const {
   j["notes"] = notes;
   j["best_round"] = best_round;
   j["critical_time_step_s"] = critical_time_step_s;
-  j["wall_seconds"] = wall_seconds;
+  j["wall_time_s"] = wall_seconds;
   j["specimens"] = {{"ucs_particles", ucs_particles}, {"bts_particles", bts_particles}};
   for (const LatticeCalibrationRound& r : rounds)
     j["rounds"].push_back({{"round", r.round}, {"cohesion_pa", r.cohesion_pa},
@@ -361,7 +361,7 @@ nlohmann::json LatticeCalibrationSummary::ToJson() const {
                            {"relative_errors",
                             {{"youngs_modulus", r.error_youngs}, {"poisson_ratio", r.error_poisson},
                              {"ucs", r.error_ucs}, {"tensile_strength", r.error_tensile}}},
-                           {"seconds", r.seconds}});
+                           {"wall_time_s", r.seconds}});
   return j;
 }
 

@@ -709,7 +709,7 @@ nlohmann::json GeneratorSummary::ToJson() const {
   j["particles_requested"] = particles_requested;
   j["nodes_placed"] = nodes_placed;
   j["particles_final"] = particles_final;
-  j["radius_bounds"] = {radius_min_bound, radius_max_bound};
+  j["radius_bounds_m"] = {radius_min_bound, radius_max_bound};
   j["radius_distribution"] = radius_distribution;
   for (const auto& r : rounds) {
     j["rounds"].push_back({{"round", r.round},
@@ -720,20 +720,20 @@ nlohmann::json GeneratorSummary::ToJson() const {
                            {"lm_iterations", r.lm_iterations},
                            {"initial_cost", r.initial_cost},
                            {"final_cost", r.final_cost},
-                           {"max_overlap", r.max_overlap},
-                           {"max_protrusion", r.max_protrusion},
+                           {"max_overlap_per_r_mean", r.max_overlap},
+                           {"max_protrusion_per_r_mean", r.max_protrusion},
                            {"nominal_porosity", r.nominal_porosity},
                            {"coordination_number", r.coordination_number},
                            {"removed_particles", r.removed_particles},
                            {"inserted_particles", r.inserted_particles},
-                           {"seconds", r.seconds}});
+                           {"wall_time_s", r.seconds}});
   }
   for (const auto& t : trace)
     j["trace"].push_back({{"round", t.round},
                           {"lm_iterations", t.lm_iterations},
-                          {"seconds", t.seconds},
+                          {"wall_time_s", t.seconds},
                           {"nominal_porosity", t.nominal_porosity},
-                          {"max_overlap", t.max_overlap}});
+                          {"max_overlap_per_r_mean", t.max_overlap}});
   for (const auto& c : compactions)
     j["compactions"].push_back({{"round", c.round},
                                 {"growth_factor", c.growth_factor},
@@ -741,7 +741,7 @@ nlohmann::json GeneratorSummary::ToJson() const {
                                 {"sweeps", c.sweeps},
                                 {"porosity_before", c.porosity_before},
                                 {"porosity_after", c.porosity_after},
-                                {"seconds", c.seconds}});
+                                {"wall_time_s", c.seconds}});
   for (const auto& b : band_steps)
     j["band_steps"].push_back({{"kind", b.kind},
                                {"particles", b.particles},
@@ -751,15 +751,15 @@ nlohmann::json GeneratorSummary::ToJson() const {
                                {"lm_iterations", b.lm_iterations},
                                {"initial_cost", b.initial_cost},
                                {"final_cost", b.final_cost},
-                               {"max_overlap", b.max_overlap},
+                               {"max_overlap_per_r_mean", b.max_overlap},
                                {"nominal_porosity", b.nominal_porosity},
                                {"coordination_number", b.coordination_number},
-                               {"seconds", b.seconds}});
-  j["projection_max_shrink"] = projection_max_shrink;
+                               {"wall_time_s", b.seconds}});
+  j["projection_max_shrink_per_r_mean"] = projection_max_shrink;
   j["projection_removed"] = projection_removed;
-  j["placement_seconds"] = placement_seconds;
-  j["densification_seconds"] = densification_seconds;
-  j["total_seconds"] = total_seconds;
+  j["placement_time_s"] = placement_seconds;
+  j["densification_time_s"] = densification_seconds;
+  j["total_time_s"] = total_seconds;
   j["termination"] = termination;
   return j;
 }

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/unit_names.h"
 #include "generator/neighbour_grid.h"
 #include "generator/union_volume.h"
 
@@ -287,11 +288,11 @@ nlohmann::json MetricsToJson(const PackingMetrics<Dim>& m) {
   nlohmann::json json;
   json["dimension"] = Dim;
   json["particle_count"] = m.particle_count;
-  json["domain_volume"] = m.domain_volume;
-  json["particle_volume"] = m.particle_volume;
-  json["mean_radius"] = m.mean_radius;
-  json["min_radius"] = m.min_radius;
-  json["max_radius"] = m.max_radius;
+  json[VolumeName("domain", Dim)] = m.domain_volume;
+  json[VolumeName("particle", Dim)] = m.particle_volume;
+  json["mean_radius_m"] = m.mean_radius;
+  json["min_radius_m"] = m.min_radius;
+  json["max_radius_m"] = m.max_radius;
   json["radius_ratio"] = m.radius_ratio;
   json["nominal_porosity"] = m.nominal_porosity;
   json["corrected_porosity"] = m.corrected_porosity;
@@ -300,10 +301,10 @@ nlohmann::json MetricsToJson(const PackingMetrics<Dim>& m) {
   json["coordination_number"] = m.coordination_number;
   json["under_coordinated_fraction"] = m.under_coordinated_fraction;
   json["overlapping_pairs"] = m.overlapping_pairs;
-  json["mean_overlap"] = m.mean_overlap;
-  json["max_overlap"] = m.max_overlap;
-  json["mean_contact_gap"] = m.mean_contact_gap;
-  json["max_contact_gap"] = m.max_contact_gap;
+  json["mean_overlap_per_r_mean"] = m.mean_overlap;
+  json["max_overlap_per_r_mean"] = m.max_overlap;
+  json["mean_contact_gap_per_r_mean"] = m.mean_contact_gap;
+  json["max_contact_gap_per_r_mean"] = m.max_contact_gap;
   nlohmann::json fabric = nlohmann::json::array();
   for (int row = 0; row < Dim; ++row) {
     nlohmann::json values = nlohmann::json::array();
@@ -317,12 +318,12 @@ nlohmann::json MetricsToJson(const PackingMetrics<Dim>& m) {
   json["orientation_histograms"] = {{"planes", HistogramPlanes<Dim>()},
                                     {"bin_width_deg", bins > 0 ? 180.0 / bins : 0.0},
                                     {"weights", m.orientation_histograms}};
-  json["max_protrusion"] = m.max_protrusion;
+  json["max_protrusion_per_r_mean"] = m.max_protrusion;
   json["protruding_particles"] = m.protruding_particles;
-  json["mean_radius_squared"] = m.mean_radius_squared;
-  json["mean_radius_cubed"] = m.mean_radius_cubed;
-  json["mean_branch_length"] = m.mean_branch_length;
-  json["mean_branch_length_squared"] = m.mean_branch_length_squared;
+  json["mean_radius_squared_m2"] = m.mean_radius_squared;
+  json["mean_radius_cubed_m3"] = m.mean_radius_cubed;
+  json["mean_branch_length_m"] = m.mean_branch_length;
+  json["mean_branch_length_squared_m2"] = m.mean_branch_length_squared;
   return json;
 }
 

@@ -11,6 +11,7 @@
 #include "common/element_kind.h"
 #include "common/error.h"
 #include "common/plot.h"
+#include "common/unit_names.h"
 #include "specimen_version.h"
 
 namespace specimen {
@@ -73,8 +74,12 @@ void WriteCurveCsv(const LabTestResult& r, std::ostream& out) {
   out << "step,time_s,boundary_strain,axial_strain,lateral_strain,volumetric_strain,shear_strain,"
          "strain_xx,strain_yy,strain_zz,strain_yz,strain_xz,strain_xy,"
          "stress_xx_pa,stress_yy_pa,stress_zz_pa,stress_yz_pa,stress_xz_pa,stress_xy_pa,"
-         "axial_stress_mpa,lateral_stress_mpa,plot_stress_mpa,control,platen_force_n,volume_m3,"
-         "broken_tension,broken_shear,kinetic_j,elastic_j,external_work_j,dissipated_j\n";
+         "axial_stress_mpa,lateral_stress_mpa,plot_stress_mpa,"
+      << ControlName(r.kind, dim) << ',' << PerThickness("platen_force_n", dim) << ','
+      << VolumeName("stress", dim) << ",broken_tension,broken_shear";
+  for (const char* energy : {"kinetic_j", "elastic_j", "external_work_j", "dissipated_j"})
+    out << ',' << PerThickness(energy, dim);
+  out << '\n';
   for (const LabCurvePoint& p : r.curve) {
     double lateral = 0.0;
     for (int k = 0; k < dim; ++k)

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "common/unit_names.h"
 #include "lab/lab_test.h"
 
 namespace specimen {
@@ -26,7 +27,21 @@ const char* TerminationName(LabTermination t) {
 // "per m" in 2D, where forces are per unit thickness.
 std::string ForceUnit(int dimension) { return dimension == 2 ? "N/m" : "N"; }
 
+// The energy terms named per metre of thickness in 2D ("kinetic_j_per_m").
+nlohmann::json EnergyJson(const nlohmann::json& energy, int dimension) {
+  nlohmann::json named;
+  for (const auto& [key, value] : energy.items()) {
+    const bool joules = key.size() > 2 && key.compare(key.size() - 2, 2, "_j") == 0;
+    named[joules ? PerThickness(key, dimension) : key] = value;
+  }
+  return named;
+}
+
 }  // namespace
+
+std::string ControlName(LabTestKind kind, int dimension) {
+  return kind == LabTestKind::kBrazilian ? PerThickness("control_n", dimension) : "control_pa";
+}
 
 std::string LabTestResult::BriefReport() const {
   std::ostringstream out;
@@ -203,10 +218,10 @@ nlohmann::json LabTestResult::ToJson() const {
   j["termination_message"] = termination_message;
   j["peak_reached"] = peak_reached;
   j["peak_stress_pa"] = peak_stress_pa;
-  j["peak_control"] = peak_control;
+  j["peak_" + ControlName(kind, dimension)] = peak_control;
   j["strain_at_peak"] = strain_at_peak;
   j["boundary_strain_at_peak"] = boundary_strain_at_peak;
-  j["peak_force_n"] = peak_force_n;
+  j[PerThickness("peak_force_n", dimension)] = peak_force_n;
   if (kind == LabTestKind::kBrazilian) j["tensile_strength_pa"] = tensile_strength_pa;
   if (kind == LabTestKind::kIsotropicCompression) j["bulk_modulus_pa"] = bulk_modulus_pa;
   if (kind == LabTestKind::kPureShear) j["shear_modulus_pa"] = shear_modulus_pa;
@@ -249,9 +264,9 @@ nlohmann::json LabTestResult::ToJson() const {
       {"modulus_change", run ? nlohmann::json(quasi_static.modulus_change) : nothing},
       {"peak_change", run ? nlohmann::json(quasi_static.peak_change) : nothing},
       {"tolerance", quasi_static.tolerance}};
-  j["energy"] = energy.ToJson();
+  j["energy"] = EnergyJson(energy.ToJson(), dimension);
   j["samples"] = curve.size();
-  j["wall_seconds"] = wall_seconds;
+  j["wall_time_s"] = wall_seconds;
   return j;
 }
 

@@ -350,6 +350,10 @@ struct QuasiStaticCheck {
   bool passed = false;
 };
 
+// The name of the control quantity with its unit in the outputs: "control_pa", or for the
+// Brazilian test, whose control is the platen force, "control_n" (2D "control_n_per_m").
+std::string ControlName(LabTestKind kind, int dimension);
+
 enum class LabTermination { kPostPeak, kStrainLimit };
 
 struct LabTestResult {

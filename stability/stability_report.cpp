@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "common/unit_names.h"
 #include "stability/stability_analysis.h"
 
 namespace specimen {
@@ -28,7 +29,7 @@ nlohmann::json EigenvalueJson(const EigenvalueReport& e) {
           {"reorthogonalised", e.reorthogonalised},
           {"exact", e.exact},
           {"inner_iterations", e.inner_iterations},
-          {"seconds", e.seconds}};
+          {"wall_time_s", e.seconds}};
 }
 
 nlohmann::json LatticeJson(const LatticeLimits& l) {
@@ -164,8 +165,8 @@ nlohmann::json StabilitySummary::ToJson() const {
                 {"degrees_of_freedom", degrees_of_freedom},
                 {"fixed_degrees_of_freedom", fixed_degrees_of_freedom},
                 {"rotation", rotation},
-                {"normal_stiffness_n_per_m", normal_stiffness_n_per_m},
-                {"tangential_stiffness_n_per_m", tangential_stiffness_n_per_m},
+                {PerThickness("normal_stiffness_n_per_m", dimension), normal_stiffness_n_per_m},
+                {PerThickness("tangential_stiffness_n_per_m", dimension), tangential_stiffness_n_per_m},
                 {"bond_radius_ratio", bond_radius_ratio},
                 {"bond_range", bond_range},
                 {"particle_model", particle_model},
@@ -241,7 +242,7 @@ nlohmann::json StabilitySummary::ToJson() const {
                           {"recommended_kn_over_ep", Finite(r.recommended_kn_over_ep)},
                           {"lattice_limits", LatticeJson(r.lattice)}});
   j["warnings"] = warnings;
-  j["seconds"] = seconds;
+  j["wall_time_s"] = seconds;
   return j;
 }
 

@@ -610,13 +610,14 @@ TEST(PackingMetrics, JsonAndReport) {
   const Packing<2> plane = HexagonalLatticeInRectangle(1.0, 3, 2);
   const auto m2 = ComputePackingMetrics(plane);
   const nlohmann::json json = MetricsToJson(m2);
+  // Every number with a unit says it in its name; 2D volumes are areas.
   for (const char* key : {"dimension",
                           "particle_count",
-                          "domain_volume",
-                          "particle_volume",
-                          "mean_radius",
-                          "min_radius",
-                          "max_radius",
+                          "domain_area_m2",
+                          "particle_area_m2",
+                          "mean_radius_m",
+                          "min_radius_m",
+                          "max_radius_m",
                           "radius_ratio",
                           "nominal_porosity",
                           "corrected_porosity",
@@ -625,20 +626,23 @@ TEST(PackingMetrics, JsonAndReport) {
                           "coordination_number",
                           "under_coordinated_fraction",
                           "overlapping_pairs",
-                          "mean_overlap",
-                          "max_overlap",
-                          "mean_contact_gap",
-                          "max_contact_gap",
+                          "mean_overlap_per_r_mean",
+                          "max_overlap_per_r_mean",
+                          "mean_contact_gap_per_r_mean",
+                          "max_contact_gap_per_r_mean",
                           "fabric",
                           "fabric_eigenvalues",
                           "orientation_histograms",
-                          "max_protrusion",
+                          "max_protrusion_per_r_mean",
                           "protruding_particles",
-                          "mean_radius_squared",
-                          "mean_radius_cubed",
-                          "mean_branch_length",
-                          "mean_branch_length_squared"})
+                          "mean_radius_squared_m2",
+                          "mean_radius_cubed_m3",
+                          "mean_branch_length_m",
+                          "mean_branch_length_squared_m2"})
     EXPECT_TRUE(json.contains(key)) << key;
+  for (const char* unitless : {"domain_volume", "mean_radius", "max_overlap", "max_contact_gap"})
+    EXPECT_FALSE(json.contains(unitless)) << unitless;
+  EXPECT_DOUBLE_EQ(json["domain_area_m2"].get<double>(), m2.domain_volume);
   EXPECT_EQ(json["fabric"].size(), 2u);
   EXPECT_EQ(json["orientation_histograms"]["weights"][0].size(), 36u);
   EXPECT_DOUBLE_EQ(json["corrected_porosity"].get<double>(), m2.corrected_porosity);
@@ -652,6 +656,9 @@ TEST(PackingMetrics, JsonAndReport) {
   space.contacts = {{0, 1}};
   const auto m3 = ComputePackingMetrics(space);
   EXPECT_EQ(MetricsToJson(m3)["fabric"].size(), 3u);
+  EXPECT_DOUBLE_EQ(MetricsToJson(m3)["domain_volume_m3"].get<double>(), 27.0);
+  EXPECT_DOUBLE_EQ(MetricsToJson(m3)["particle_volume_m3"].get<double>(), m3.particle_volume);
+  EXPECT_FALSE(MetricsToJson(m3).contains("domain_area_m2"));
   EXPECT_EQ(MetricsToJson(m3)["orientation_histograms"]["weights"].size(), 3u);
   EXPECT_FALSE(MetricsReport(m3).empty());
 }

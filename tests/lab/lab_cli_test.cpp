@@ -140,6 +140,14 @@ TEST_F(RunTestCommand, UcsWritesTheReportAndFiles) {
   EXPECT_TRUE(j["result"]["quasi_static_check"]["passed"].is_null());
   EXPECT_NE(r.output.find("not run: not requested"), std::string::npos) << r.output;
 
+  // 2D: forces, energies per metre of thickness and the stress volume an area, by name.
+  const std::vector<std::string> curve = Lines(out / "t_curve.csv");
+  ASSERT_GT(curve.size(), 1u);
+  for (const char* column : {",control_pa,", ",platen_force_n_per_m,", ",stress_area_m2,",
+                             ",kinetic_j_per_m,", ",dissipated_j_per_m"})
+    EXPECT_NE(curve[0].find(column), std::string::npos) << column << " in " << curve[0];
+  EXPECT_TRUE(j["result"].contains("peak_force_n_per_m"));
+
   // One code table for the broken bonds: 2 tension, 3 shear, in bonds.csv, cracks.csv and
   // the VTU cell array "kind" (0 particle, 1 intact bond).
   const std::vector<std::string> bonds = Lines(out / "t_bonds.csv");

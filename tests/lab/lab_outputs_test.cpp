@@ -1,5 +1,6 @@
 // The conventions of run-test's reports (docs/exports.md, "Units and names in the output
-// files"): a check not run reported as not run, and a missing fit as null rather than 0.
+// files"): units in the names, per metre of thickness in 2D, a check not run reported as not
+// run, and a missing fit as null rather than 0.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -19,6 +20,25 @@ LabTestResult Result(int dimension, LabTestKind kind) {
   r.wall_seconds = 2.5;
   r.energy.kinetic_j = 0.25;
   return r;
+}
+
+TEST(LabReportNames, ForcesAndEnergiesArePerMetreOfThicknessIn2D) {
+  const nlohmann::json plane = Result(2, LabTestKind::kUniaxialCompression).ToJson();
+  EXPECT_EQ(plane["peak_force_n_per_m"], 1234.0);
+  EXPECT_FALSE(plane.contains("peak_force_n"));
+  EXPECT_EQ(plane["peak_control_pa"], 5e7);
+  EXPECT_EQ(plane["energy"]["kinetic_j_per_m"], 0.25);
+  EXPECT_FALSE(plane["energy"].contains("kinetic_j"));
+  EXPECT_TRUE(plane["energy"].contains("relative_imbalance"));  // no unit: unchanged
+  EXPECT_EQ(plane["wall_time_s"], 2.5);
+
+  const nlohmann::json solid = Result(3, LabTestKind::kUniaxialCompression).ToJson();
+  EXPECT_EQ(solid["peak_force_n"], 1234.0);
+  EXPECT_EQ(solid["energy"]["kinetic_j"], 0.25);
+
+  // The Brazilian test is controlled by the platen force.
+  EXPECT_EQ(Result(2, LabTestKind::kBrazilian).ToJson()["peak_control_n_per_m"], 5e7);
+  EXPECT_EQ(Result(3, LabTestKind::kBrazilian).ToJson()["peak_control_n"], 5e7);
 }
 
 TEST(LabReportChecks, AQuasiStaticCheckNotRunIsNeitherPassedNorFailed) {

@@ -94,6 +94,10 @@ TEST_F(StabilityLimitCommand, FirstSampleRunWritesTheReportAndJson) {
                           "recommended_kn_over_ep", "smallest_youngs_modulus_pa", "lattice_limits"})
     EXPECT_TRUE(a["ddem_convergence"].contains(key)) << key;
   EXPECT_EQ(a["verdict"]["verdict"], "stable");
+  // Units in the names; the 2D stiffness is per metre of thickness.
+  EXPECT_EQ(a["scene"]["normal_stiffness_n_per_m_per_m"].get<double>(), 7e10);
+  EXPECT_FALSE(a["scene"].contains("normal_stiffness_n_per_m"));
+  EXPECT_TRUE(a.contains("wall_time_s"));
   // The recommended step is 0.9 of the certified one, which is at most the Ritz estimate.
   const double critical = a["time_step"]["critical_time_step_s"];
   EXPECT_NEAR(a["time_step"]["recommended_time_step_s"].get<double>(), 0.9 * critical,

@@ -182,6 +182,11 @@ def draw_hidden(rng, deformable, bound, dimension, mean_radius=None):
 
 # --- Reading a report ---------------------------------------------------------------------
 
+def parameter(report, name):
+    """A calibrated parameter of the report; in 2D its name ends with _per_m (per metre of thickness)."""
+    return report["parameters"][name + ("_per_m" if report["dimension"] == 2 else "")]
+
+
 def best_errors(report):
     """Of the best round; NaN when every round failed (no result)."""
     best = [r for r in report["verification"] if r["best"]]
@@ -335,7 +340,7 @@ def main():
                           material.split(".")[0], master)
             built.append(row_of(label, r))
             reports.append((label, r))
-            print("%s: %.0f s in all, of which maps %.0f s" % (label, r["wall_seconds"], r["maps"]["sweep_seconds"]))
+            print("%s: %.0f s in all, of which maps %.0f s" % (label, r["wall_seconds"], r["maps"]["sweep_wall_time_s"]))
         strip_to_anchors(master)
         print_table("Calibrations that build their maps (sweep and transfer anchors)", built, False)
         rows += built
@@ -376,8 +381,8 @@ def main():
                 raise RuntimeError("twin %d: the calibrator's specimen differs from the forward runs'" % (i + 1))
             row = row_of(label, r)
             row.update({"hidden": hidden, "target": target,
-                        "found_kt_over_kn": r["parameters"]["tangential_stiffness_n_per_m"] /
-                                            r["parameters"]["normal_stiffness_n_per_m"]})
+                        "found_kt_over_kn": parameter(r, "tangential_stiffness_n_per_m") /
+                                            parameter(r, "normal_stiffness_n_per_m")})
             twin_rows.append(row)
             reports.append((label, r))
             print("  %s: %d rounds, best %d, E %+.2f%% nu %+.2f%% UCS %+.2f%% st %+.2f%%, %.0f s" % (
@@ -424,12 +429,12 @@ def main():
         rows3 = []
         with open(os.path.join(ref3, "labra_3d_report.json")) as f:  # built now or by an earlier run
             labra3 = json.load(f)
-        labra3.setdefault("wall_seconds", labra3["seconds"])
+        labra3.setdefault("wall_seconds", labra3["wall_time_s"])
         labra3.setdefault("exit_status", 0 if labra3["converged"] and not labra3["given_up"] else 4)
         rows3.append(row_of("3D Labra rock, maps built", labra3))
         packings3 = [os.path.join(ref3, "labra_3d_ucs.packing"), os.path.join(ref3, "labra_3d_bts.packing")]
         with open(os.path.join(ref3, "labra_3d_report.json")) as f:
-            mean_radius = json.load(f)["specimens"]["ucs"]["mean_radius"]
+            mean_radius = json.load(f)["specimens"]["ucs"]["mean_radius_m"]
         rng = random.Random(args.seed + 1000)
         for i in range(args.twins_3d):
             hidden = draw_hidden(rng, False, None, 3, mean_radius)

@@ -73,9 +73,9 @@ def generate(build, out, domain, size_flag, size, seed, name, trace=False, extra
     return {
         "seconds": seconds, "cpu_seconds": cpu, "peak_mib": mib, "particles": m["particle_count"],
         "porosity": m["nominal_porosity"], "corrected_porosity": m["corrected_porosity"],
-        "coordination": m["coordination_number"], "max_overlap": m["max_overlap"],
+        "coordination": m["coordination_number"], "max_overlap": m["max_overlap_per_r_mean"],
         "fabric": m["fabric_eigenvalues"], "radius_ratio": m["radius_ratio"],
-        "mean_radius": m["mean_radius"], "report": report,
+        "mean_radius": m["mean_radius_m"], "report": report,
     }
 
 
@@ -311,7 +311,7 @@ def main():
             # GenGeo fills the cylinder with the radius range of the first 3D setting (the defaults
             # with --recommended).
             m0 = rows[0]["report"]["metrics"]
-            radius_range_3d = (m0["min_radius"], m0["max_radius"])
+            radius_range_3d = (m0["min_radius_m"], m0["max_radius_m"])
         fabric = [statistics.median(r["fabric"][k] for r in rows) for k in range(dim)]
         summary_rows.append({
             "case": label, "generator": toolkit_label(settings), "settings": settings,
@@ -370,8 +370,8 @@ def main():
         with open(path, "w") as f:
             f.write("round,cumulative_lm_iterations,seconds,nominal_porosity,max_overlap_per_rmean\n")
             for t in trace_report["generator"]["trace"]:
-                f.write("%d,%d,%.3f,%.6f,%.6g\n" % (t["round"], t["lm_iterations"], t["seconds"],
-                                                   t["nominal_porosity"], max(t["max_overlap"], 1e-6)))
+                f.write("%d,%d,%.3f,%.6f,%.6g\n" % (t["round"], t["lm_iterations"], t["wall_time_s"],
+                                                   t["nominal_porosity"], max(t["max_overlap_per_r_mean"], 1e-6)))
         for column, label, png in [(3, "wall time [s]", "convergence_2d.png"),
                                    (2, "Levenberg-Marquardt iterations (cumulative)", "convergence_2d_iterations.png")]:
             gnuplot("set datafile separator ','\nset key top right\nset xlabel '%s'\n"

@@ -89,12 +89,12 @@ def timing(args, out):
     cases = []
     # 2D UCS, 10,000 discs.
     packing, metrics = generate(args.build, out, "rectangle 0 0 0.05 0.05", 10000, 1, "ucs2d_10k")
-    scale = metrics["mean_radius"] / LABRA_2D_RADIUS
+    scale = metrics["mean_radius_m"] / LABRA_2D_RADIUS
     m2 = dict(LABRA_2D, rn=LABRA_2D["rn"] * scale, rt=LABRA_2D["rt"] * scale)
     cases.append(("2D UCS", packing, metrics, m2, ['kind = "ucs"'], "ucs2d", 120.0))
     # 2D BTS, 5,000 discs on a 50 mm disc.
     packing, metrics = generate(args.build, out, "disc 0 0 0.025", 5000, 1, "bts2d_5k")
-    scale = metrics["mean_radius"] / LABRA_2D_RADIUS
+    scale = metrics["mean_radius_m"] / LABRA_2D_RADIUS
     mb = dict(LABRA_2D, rn=LABRA_2D["rn"] * scale, rt=LABRA_2D["rt"] * scale)
     cases.append(("2D BTS", packing, metrics, mb, ['kind = "brazilian"'], "bts2d", None))
     # 3D UCS, 20,000 spheres.
@@ -175,7 +175,7 @@ def voigt_in_plane(metrics, kn, kt):
     """E', nu' of the uniform-strain (Voigt) estimate over the whole packing (Madan (4.15)-(4.16)
     with C = N_c <|l|^2>/4 / V): an upper bound; the interior of a specimen is denser than
     its boundary layer, so the interior's C is a few per cent higher (lab_test.h)."""
-    c = metrics["contact_count"] * metrics["mean_branch_length_squared"] / 4.0 / metrics["domain_volume"]
+    c = metrics["contact_count"] * metrics["mean_branch_length_squared_m2"] / 4.0 / metrics["domain_area_m2"]
     return 4.0 * c * kn * (kn + kt) / (3.0 * kn + kt), (kn - kt) / (3.0 * kn + kt)
 
 

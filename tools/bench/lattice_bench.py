@@ -158,7 +158,7 @@ def main():
                         ["normal_stiffness = 14.392e9", "tangential_stiffness = 2.868e9", "bond_tensile_strength = 1e30",
                          "bond_shear_strength = 1e30", "friction_coefficient = 0.8", "density = 2580"], speed_test)
         for r, rates in ((lat, lattice_rates), (bond, bonded_rates)):
-            rates.append(r["loading"]["steps"] * r["specimen"]["particles"] / r["wall_seconds"])
+            rates.append(r["loading"]["steps"] * r["specimen"]["particles"] / r["wall_time_s"])
     lm, bm = statistics.median(lattice_rates), statistics.median(bonded_rates)
     emit()
     emit("## Speed (%d discs, UCS to a strain of 2e-4, set-up included, median of %d, one thread)" % (

@@ -458,7 +458,7 @@ def main():
         big2 = generate(args.build, data, "2d_50k", "rectangle 0 0 0.1 0.1", "--count", 50000)
         big3 = generate(args.build, data, "3d_50k", "box 0 0 0 0.03 0.03 0.03", "--count", 50000)
         with open(os.path.join(os.path.dirname(big3), "packing_report.json")) as f:
-            mean_radius_3d = json.load(f)["metrics"]["mean_radius"]
+            mean_radius_3d = json.load(f)["metrics"]["mean_radius_m"]
         cases = [
             ("2D 50k, rigid, kt=0", big2, ["--kn", 7e10, "--density", 2000]),
             ("2D 50k, rigid, kt=kn/2", big2, ["--kn", 7e10, "--kt", 3.5e10, "--density", 2000]),
@@ -487,7 +487,7 @@ def main():
         for label, packing, arguments in [c for c in cases if re.search(args.only, c[0])]:
             seconds, cpu, analyses = time_analysis(builds, packing, arguments, args.runs,
                                                    args.threads)
-            ddem = [a["time_step"].get("ddem_eigenvalue", {}).get("seconds", 0.0)
+            ddem = [a["time_step"].get("ddem_eigenvalue", {}).get("wall_time_s", 0.0)
                     for a in analyses]
             a = analyses[0]
             timings.append({"case": label, "particles": a["scene"]["particles"],

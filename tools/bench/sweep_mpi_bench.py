@@ -70,7 +70,7 @@ def sweep(build, work, ranks, packings, env, tag):
     if len(points) != POINTS:
         sys.exit(f"expected {POINTS} points, found {len(points)}")
     seconds = [p["seconds"] for p in points]
-    wall = report["maps"]["sweep_seconds"]
+    wall = report["maps"]["sweep_wall_time_s"]
     busiest = max(sum(seconds[r::ranks]) for r in range(ranks))
     shutil.rmtree(run_dir)
     return {"wall": wall, "total": total, "point_mean": statistics.mean(seconds), "point_max": max(seconds),
