@@ -13,8 +13,8 @@ given with --packing (maps on the same specimens: no transfer anchors), one thre
 (--threads 1), a fresh --maps-dir per run, --rounds 1 (the calibration after the sweep is
 not timed). Each run under `mpirun --oversubscribe --bind-to none -n N` (N = 1 too, so
 that the start of the MPI runtime is in every row). Measured per run: the sweep's wall time
-on rank 0 (`sweep_seconds` of the report: from the sweep's start to every rank holding every
-point), each point's own time (`seconds` of the map file's points), and from them the
+on rank 0 (`maps.sweep_wall_time_s` of the report: from the sweep's start to every rank
+holding every point), each point's own time (`seconds` of the map file's points), and from them the
 exchange overhead: the sweep's wall time less the busiest rank's points (rank r runs points
 r, r + N, ...). The median of --repeats runs per N.
 """
