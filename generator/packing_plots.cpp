@@ -403,7 +403,7 @@ PicturesWritten WritePackingPictures(const Packing<Dim>& packing,
   });
   written.files.push_back(particles_csv);
   std::string contacts_csv;
-  if (packing.size() < options.contact_drawing_limit && !packing.contacts.empty()) {
+  if (!packing.contacts.empty()) {
     contacts_csv = output_prefix + "_contacts.csv";
     WriteFileAtomically(contacts_csv, [&](std::ostream& out) {
       out << "i,j";
@@ -427,8 +427,9 @@ PicturesWritten WritePackingPictures(const Packing<Dim>& packing,
     if constexpr (Dim == 2) {
       PlotOptions plot;
       plot.width_px = options.packing_picture_width_px;
-      const std::string script =
-          PackingScript(packing, particles_csv, contacts_csv, plot.width_px, &plot.height_px);
+      const bool draw_contacts = packing.size() < options.contact_drawing_limit;
+      const std::string script = PackingScript(packing, particles_csv, draw_contacts ? contacts_csv : std::string(),
+                                               plot.width_px, &plot.height_px);
       render(script, output_prefix + "_packing.png", plot);
     }
     render(HistogramScript(packing, metrics, radii_csv), output_prefix + "_radius_histogram.png",

@@ -28,9 +28,8 @@ struct PackingPicturesOptions {
   // Render the PNG files with gnuplot; false writes only the CSV files they are drawn from
   // (generate-packing --no-pictures).
   bool draw = true;
-  // Contacts are written to <prefix>_contacts.csv (and drawn, 2D) only for packings of fewer
-  // particles than this: above it the lines are sub-pixel and slow to draw, and the file
-  // large (the .packing file holds every contact).
+  // Contacts are drawn (2D) only for packings of fewer particles than this: above it the
+  // lines are sub-pixel and slow to draw. <prefix>_contacts.csv holds them at every size.
   int contact_drawing_limit = 5000;
   // Width of the packing picture in pixels; the height follows the domain's aspect ratio.
   int packing_picture_width_px = 1000;
