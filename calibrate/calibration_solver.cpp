@@ -828,21 +828,24 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
                                   (compressive ? "sigma_t" : "the UCS") +
                                   " is given up");
       } else if (tensile_honoured && x_free && !ratio_measured_in_reach && !met(k) && !last) {
-        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo, x_of_lo = x_lo, x_of_hi = x_hi;
         for (int j = 0; j <= 100; ++j) {
-          const double value = ratio_at(x_lo + width * j / 100.0);
-          lo = std::min(lo, value);
-          hi = std::max(hi, value);
+          const double v = x_lo + width * j / 100.0, value = ratio_at(v);
+          if (value < lo) lo = value, x_of_lo = v;
+          if (value > hi) hi = value, x_of_hi = v;
         }
         const bool above = log_ratio > hi + slack, below = log_ratio < lo - slack;
         if (above || below) {
           // The measured extreme of the ratio on this line (the largest when the target lies
           // above the corrected line, the smallest when below) is the nearest it comes. It
           // declares the target out of reach only once shown to be an extreme: every side of it
-          // with room in the box holds a measurement 10-35 % of the box away (or nearer, where
-          // less room is left), since the trend of the maps between can be wrong. A rigid twin
+          // with room in the box holds a measurement 10 % of the box away or more (or nearer,
+          // where less room is left) that comes less near, since the trend of the maps between
+          // can be wrong. A rigid twin
           // measured 17.6 at Rt/Rn 4.5 and 16.2 and 15.9 at 9.7 and 10, the box end where the
-          // maps put the top. A side without one is probed a quarter of the box away.
+          // maps put the top. A side without one is probed a quarter of the box away, first the
+          // side towards the end where the corrected line comes nearest the target.
+          const double line_end = above ? x_of_hi : x_of_lo;
           struct Sample {
             double x, log_ratio;
           };
@@ -860,18 +863,28 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
           const double star_x = samples[star].x;
           bool measured_at_end = sign * (log_ratio - samples[star].log_ratio) > slack;
           const double room_below = star_x - x_lo, room_above = x_hi - star_x;
-          for (double side : {room_below >= room_above ? -1.0 : 1.0, room_below >= room_above ? 1.0 : -1.0}) {
+          const double toward_end = line_end < star_x ? -1.0 : 1.0;
+          // A neighbour within the path noise of the extreme (its ratio less than 3 % lower,
+          // twice the ratio's noise of a round) shows no trend: the side is then probed beyond
+          // it, until the box ends.
+          constexpr double kDistinct = 0.03;
+          for (double side : {toward_end, -toward_end}) {
             const double room = side < 0.0 ? room_below : room_above;
             if (!measured_at_end || room <= 0.02 * width) continue;
-            const double from = std::min(0.1 * width, room - 0.02 * width), to = 0.35 * width;
+            const double from = std::min(0.1 * width, room - 0.02 * width);
             bool seen = false;
+            double farthest_flat = 0.0;  // distance of the farthest neighbour within the noise
             for (const Sample& m : samples) {
               const double d = side * (m.x - star_x);
-              if (d >= from * (1.0 - 1e-9) && d <= to) seen = true;
+              if (!(d >= from * (1.0 - 1e-9))) continue;
+              if (sign * (samples[star].log_ratio - m.log_ratio) < kDistinct) farthest_flat = std::max(farthest_flat, d);
+              else seen = true;
             }
+            if (!seen && farthest_flat >= room - 0.02 * width) seen = true;  // flat to the box end
             if (!seen) {
-              probe_x = std::clamp(star_x + side * std::min(0.25 * width, room), x_lo, x_hi);
+              probe_x = std::clamp(star_x + side * std::min(farthest_flat + 0.25 * width, room), x_lo, x_hi);
               measured_at_end = false;
+              break;
             }
           }
           const double end = star_x;
