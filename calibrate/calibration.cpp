@@ -513,6 +513,7 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
 
   auto make_solver = [&](const StoredMaps& maps, double admissible, int* stored) {
     CalibrationSurrogate surrogate(maps.maps, summary.ucs_descriptors, summary.bts_descriptors);
+    surrogate.SetSweepGrid(SweepGrid(maps.design, maps.points));
     *stored = 0;
     for (const VerifiedPoint& v : maps.verified)
       if (MapsMatchPacking(v.specimen, summary.ucs_descriptors, nullptr)) {

@@ -304,10 +304,23 @@ bool CalibrationSolver::DeformableStart(double poisson, double avoid, MicroRatio
     const double lo = StrengthRatioMin(r, &unused), hi = StrengthRatioMax(r, &unused);
     *ratio_min = std::min(*ratio_min, lo);
     *ratio_max = std::max(*ratio_max, hi);
+    // The candidates are ranked by the sweep's own points where the maps have them (the
+    // fitted surfaces flatten the ratio's peak along kt/kn, sweep_grid.h: two DDEM twins
+    // were started at kt/kn 0.26-0.29, where the ratio tops out at 17.7, against 19.0 and
+    // 22.2 measured at their hidden kt/kn 0.38-0.44 and 25.7 at 0.40).
+    double rank_lo = lo, rank_hi = hi;
+    if (surrogate_.HasSweepGrid()) {
+      const double x_lo = surrogate_.Lower(MicroRatio::kStrengthRatio), x_hi = surrogate_.Upper(MicroRatio::kStrengthRatio);
+      rank_lo = std::numeric_limits<double>::infinity(), rank_hi = -rank_lo;
+      for (int j = 0; j <= 100; ++j) {
+        const double g = surrogate_.GridStrengthRatio(With(r, MicroRatio::kStrengthRatio, x_lo + (x_hi - x_lo) * j / 100.0));
+        rank_lo = std::min(rank_lo, g), rank_hi = std::max(rank_hi, g);
+      }
+    }
     // The margin, in logarithms, by which the target lies inside the interval of the ratio
-    // (negative outside): the kt/kn where a transfer error of the surfaces is least likely to
+    // (negative outside): the kt/kn where a transfer error of the maps is least likely to
     // put the target out of reach. Ties: the stiffer particles (more margin to rho(B)).
-    const double margin = std::min(std::log(target_ratio / lo), std::log(hi / target_ratio));
+    const double margin = std::min(std::log(target_ratio / rank_lo), std::log(rank_hi / target_ratio));
     const double score = margin - 1e-3 * c / compliance_upper_;
     if (score > best_score) best_score = score, *start = r;
   }
@@ -882,7 +895,16 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
             }
             if (!seen && farthest_flat >= room - 0.02 * width) seen = true;  // flat to the box end
             if (!seen) {
-              probe_x = std::clamp(star_x + side * std::min(farthest_flat + 0.25 * width, room), x_lo, x_hi);
+              // Where the corrected line comes nearest at an end of the box, towards it the end
+              // itself: that round either brackets the root or shows the extreme from that side
+              // (a quarter-box step took a DDEM twin from Rt/Rn 4.61 to 2.36 and only then to
+              // the end, 1, which bracketed the root). An extreme inside the box is the maps'
+              // guess, which the quarter steps test.
+              const bool at_box_end = line_end <= x_lo + same_x || line_end >= x_hi - same_x;
+              const double step_out = side == toward_end && at_box_end && std::abs(line_end - star_x) > farthest_flat
+                                          ? std::abs(line_end - star_x)
+                                          : farthest_flat + 0.25 * width;
+              probe_x = std::clamp(star_x + side * std::min(step_out, room), x_lo, x_hi);
               measured_at_end = false;
               break;
             }
@@ -976,7 +998,10 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
     }
     StrengthRound& now = k.failed ? failed_rounds.back() : rounds.back();
     now.trust_radius = trust;
-    if ((!now.failed && met(now)) || last) break;
+    // Done once any round meets every honoured tolerance: after sigma_t (or the UCS) is given
+    // up, an earlier round may already meet the rest (a DDEM twin's round 1 met the UCS, and
+    // two more rounds ran after sigma_t was given up in round 4).
+    if ((best >= 0 && met(rounds[best])) || last) break;
 
     // The next Rt/Rn: the corrected ratio's root nearest this set's best round, inside the
     // region; once the ratio is given up, the end that comes nearest it, kept.

@@ -59,7 +59,9 @@ void CalibrationSurrogate::AddMeasurement(const SurrogateMeasurement& m, bool st
     a.has_strength = true;
     a.delta[kCompressive] = std::log(m.ucs_per_strength) - MapValue(kCompressive, x);
     a.delta[kTensile] = std::log(m.tensile_per_strength) - MapValue(kTensile, x);
+    a.log_ratio = std::log(m.ucs_per_strength / m.tensile_per_strength);
   }
+  a.ratios = m.ratios;
   if (a.has_elastic || a.has_strength) points_.push_back(a);
   if (stored) stored_.push_back(m);
 }
@@ -104,6 +106,20 @@ double CalibrationSurrogate::UcsPerStrength(const MicroRatios& r, const MicroRat
 double CalibrationSurrogate::TensilePerStrength(const MicroRatios& r, const MicroRatio* line) const {
   const Eigen::VectorXd x = Inputs(r);
   return std::exp(MapValue(kTensile, x) + Correction(kTensile, x, line));
+}
+
+double CalibrationSurrogate::GridStrengthRatio(const MicroRatios& r) const {
+  if (!grid_.valid()) return StrengthRatio(r);
+  const Eigen::VectorXd s = Scaled(Inputs(r));
+  const double factor = std::log(ucs_factor_ / tensile_factor_);
+  double sum = 0.0, weights = 0.0;
+  for (const Anchor& a : points_) {
+    if (!a.has_strength) continue;
+    const double w = a.weight / ((s - a.scaled).squaredNorm() + kSmoothing * kSmoothing);
+    sum += w * (a.log_ratio - (grid_.LogGroupRatio(a.ratios) + factor));
+    weights += w;
+  }
+  return std::exp(grid_.LogGroupRatio(r) + factor + (weights > 0.0 ? sum / weights : 0.0));
 }
 
 double CalibrationSurrogate::MapYoungsPerStiffness(const MicroRatios& r) const {

@@ -19,12 +19,14 @@
 //   s.AddMeasurement(point, /*stored=*/true);        // from the map file
 //   double nu = s.Poisson(ratios);                   // corrected prediction
 
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "calibrate/dimensionless_groups.h"
 #include "calibrate/map_set.h"
+#include "calibrate/sweep_grid.h"
 
 namespace specimen {
 
@@ -68,6 +70,14 @@ class CalibrationSurrogate {
     return UcsPerStrength(ratios, line) / TensilePerStrength(ratios, line);
   }
 
+  // The sweep's own points (sweep_grid.h), when the maps come with them.
+  void SetSweepGrid(SweepGrid grid) { grid_ = std::move(grid); }
+  bool HasSweepGrid() const { return grid_.valid(); }
+  // sigma_c / sigma_t on the real specimens from the sweep grid, corrected as above by the
+  // measurements (ln of the measured ratio minus the grid's at each); StrengthRatio without
+  // a grid.
+  double GridStrengthRatio(const MicroRatios& ratios) const;
+
   // The same from the fitted surfaces alone (the transfer error is measured against these).
   double MapYoungsPerStiffness(const MicroRatios& ratios) const;
   double MapPoisson(const MicroRatios& ratios) const;
@@ -91,6 +101,8 @@ class CalibrationSurrogate {
   struct Anchor {
     Eigen::VectorXd scaled;  // inputs scaled to the box
     double delta[4] = {0, 0, 0, 0};
+    MicroRatios ratios;
+    double log_ratio = 0.0;  // ln(sigma_c / sigma_t) measured, with has_strength
     bool has_elastic = false, has_strength = false;
     double weight = 1.0;
     bool stored = false;
@@ -106,6 +118,7 @@ class CalibrationSurrogate {
   double youngs_factor_ = 0.0;       // E / kn = Psi_E x this
   double ucs_factor_ = 0.0, tensile_factor_ = 0.0;  // sigma / Rn = Psi x these
   std::vector<Anchor> points_;
+  SweepGrid grid_;
   std::vector<SurrogateMeasurement> stored_;
 };
 
