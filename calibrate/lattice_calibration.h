@@ -15,7 +15,8 @@
 //     the least; LowerFrictionAngle in the .cpp) and c follows; with the target's angle, or at
 //     the lowest, sigma_t is out of reach, said so, and given up;
 //   - a UCS that stops following c is capped by the tension cut-off: the UCS is then reached
-//     through the triangles' sigma_t (c kept), and sigma_t is said out of reach and given up;
+//     through the triangles' sigma_t (c kept; between the nearest rounds on both sides of the
+//     target once there are some), and sigma_t is said out of reach and given up;
 //   - stop when UCS and sigma_t are within their tolerances; the result is the best round.
 // No maps: a round is two short tests of an elastic-brittle lattice.
 //
