@@ -277,6 +277,25 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
         const double secant = below->log_sigma_t + (goal[0] - below->log_strength) * width /
                                                        (above->log_strength - below->log_strength);
         p[1] = std::clamp(secant, below->log_sigma_t + 0.1 * width, above->log_sigma_t - 0.1 * width);
+        // Two rounds in a row on the same side: the secant creeps towards a leap from one end
+        // (regula falsi), so the bracket is halved instead (in logarithms).
+        const size_t n = on_tension.size();
+        if (n >= 2 && (on_tension[n - 1].log_strength < goal[0]) == (on_tension[n - 2].log_strength < goal[0]))
+          p[1] = 0.5 * (below->log_sigma_t + above->log_sigma_t);
+        // A bracket narrower than 1 % in sigma_t whose ends still differ by more than twice the
+        // UCS's tolerance on each side of the target holds a leap, not a root: the target UCS
+        // is out of reach at this c (Navajo: 174.9 MPa at 22.79 MPa, 266.1 MPa at 22.95 MPa).
+        if (width < std::log(1.01) && goal[0] - below->log_strength > 2.0 * tau_c &&
+            above->log_strength - goal[0] > 2.0 * tau_c) {
+          summary.notes.push_back("the UCS leaps from " + Format("%.4g", std::exp(below->log_strength) / 1e6) +
+                                  " to " + Format("%.4g", std::exp(above->log_strength) / 1e6) +
+                                  " MPa between the triangles' sigma_t " +
+                                  Format("%.4g", std::exp(below->log_sigma_t) / 1e6) + " and " +
+                                  Format("%.4g", std::exp(above->log_sigma_t) / 1e6) + " MPa: " +
+                                  Format("%.4g", target.ucs_pa / 1e6) +
+                                  " MPa lies in the leap, out of reach; the rounds end");
+          break;
+        }
       }
       continue;
     }

@@ -16,7 +16,8 @@
 //     the lowest, sigma_t is out of reach, said so, and given up;
 //   - a UCS that stops following c is capped by the tension cut-off: the UCS is then reached
 //     through the triangles' sigma_t (c kept; between the nearest rounds on both sides of the
-//     target once there are some), and sigma_t is said out of reach and given up;
+//     target once there are some; a bracket that closes on a leap of the UCS ends the
+//     rounds, the UCS out of reach), and sigma_t is said out of reach and given up;
 //   - stop when UCS and sigma_t are within their tolerances; the result is the best round.
 // No maps: a round is two short tests of an elastic-brittle lattice.
 //
