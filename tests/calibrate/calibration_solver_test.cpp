@@ -802,6 +802,46 @@ TEST(CalibrationSolver, AnUnreachableRatioIsGivenUpOnMeasurementAfterAProbe) {
   EXPECT_LE(static_cast<int>(s.rounds.size()), 4);
 }
 
+// Once sigma_t is given up, a round measured before may already meet the UCS: the stage ends
+// there instead of spending rounds on the UCS alone (a ratio 8 % below the box's least: Rn
+// splits the miss by the tolerances, so round 1 meets the UCS while sigma_t misses by about
+// 6 %; round 2 probes the other side and gives sigma_t up).
+TEST(CalibrationSolver, TheStageEndsWhenAnEarlierRoundMeetsWhatIsKept) {
+  const MapSet maps = RigidMapsWithStrengths(Rock::UcsPerStrength, Rock::TensilePerStrength);
+  TargetMaterial target = Twin(2e10, 5e3, Rigid(0.3, 2.0));
+  target.tensile_strength_pa *= 1.08;
+  const CalibrationSolverOptions options = Options();
+  FakeModel model(17, 0.003);
+  CalibrationSolver solver(CalibrationSurrogate(maps, Specimen2D(), Specimen2D()), target, options, &model);
+  const CalibrationSolution s = solver.Solve();
+  SCOPED_TRACE(Rounds(s));
+  ASSERT_GE(s.rounds.size(), 2u);
+  EXPECT_LE(std::abs(s.rounds[0].error_ucs), options.tolerance_ucs);
+  EXPECT_GT(std::abs(s.rounds[0].error_tensile), options.tolerance_tensile);
+  EXPECT_FALSE(s.tensile_honoured);
+  EXPECT_EQ(s.rounds.size(), 2u);
+  EXPECT_EQ(s.best_round, 0);
+  EXPECT_TRUE(s.converged);
+}
+
+// A target below every ratio of the box, on maps whose UCS is 40 % low: round 1 lands inside
+// the box (about Rt/Rn 5.5), the corrected line comes nearest at the box end, and the probe goes
+// to that end at once rather than a quarter of the box towards it.
+TEST(CalibrationSolver, TheProbeTowardsTheLinesNearestBoxEndGoesToTheEnd) {
+  const MapSet maps = RigidMapsWithStrengths([](const MicroRatios& r) { return 0.6 * Rock::UcsPerStrength(r); },
+                                             Rock::TensilePerStrength);
+  TargetMaterial target = Twin(2e10, 5e3, Rigid(0.3, 2.0));
+  target.tensile_strength_pa *= 1.08;  // 8 % below the ratio at Rt/Rn 2, the box's least
+  FakeModel model(17, 0.003);
+  CalibrationSolver solver(CalibrationSurrogate(maps, Specimen2D(), Specimen2D()), target, Options(), &model);
+  const CalibrationSolution s = solver.Solve();
+  SCOPED_TRACE(Rounds(s));
+  ASSERT_GE(s.rounds.size(), 2u);
+  EXPECT_GT(s.rounds[0].ratios.shear_to_tensile_strength, 4.0);
+  EXPECT_NE(s.rounds[0].step.find("probing beside"), std::string::npos);
+  EXPECT_DOUBLE_EQ(s.rounds[1].ratios.shear_to_tensile_strength, 2.0);
+}
+
 // sigma_c / sigma_t can peak inside the box and fall towards its end, where the maps put the
 // target (a rigid twin of the default specimen: 17.6 at Rt/Rn 4.5, 16.2 and 15.9 at 9.7 and 10,
 // where the maps reached 17.7). A target at the peak is reached: rounds at the end do not
