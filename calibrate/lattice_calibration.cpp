@@ -74,14 +74,46 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
                                            const LatticeCalibrationOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError(error);
-  if (!target.IsValid(&error)) throw InputError(error);
-  if (!(target.poisson_ratio > -1.0 && target.poisson_ratio < 0.5))
-    throw InputError("poisson_ratio = " + Number(target.poisson_ratio) +
-                     ": the plane-strain lattice needs nu in (-1, 0.5)");
   if (ucs.domain.shape() != DomainShape::kRectangle)
     throw InputError("the lattice UCS specimen must be a rectangle, not a " + ucs.domain.ShapeName());
   if (bts.domain.shape() != DomainShape::kDisc)
     throw InputError("the lattice Brazilian specimen must be a disc, not a " + bts.domain.ShapeName());
+  // A round: the two tests at once; a test without a peak fails the calibration.
+  auto run_round = [&](const LatticeMaterial& material, int round) {
+    LabTestOptions ucs_test = options.test, bts_test = options.test;
+    ucs_test.kind = LabTestKind::kUniaxialCompression;
+    bts_test.kind = LabTestKind::kBrazilian;
+    ucs_test.progress = bts_test.progress = nullptr;
+    auto bts_run = std::async(std::launch::async,
+                              [&]() { return RunLatticeLabTest(bts, material, bts_test, options.protocol); });
+    const LabTestResult u = RunLatticeLabTest(ucs, material, ucs_test, options.protocol);
+    const LabTestResult b = bts_run.get();
+    if (!u.peak_reached || !b.peak_reached)
+      throw ComputationError(std::string("lattice round ") + std::to_string(round) + ": the " +
+                             (!u.peak_reached ? "UCS" : "Brazilian") + " test " +
+                             (!u.peak_reached ? u.termination_message : b.termination_message));
+    LatticeRoundMeasurement m;
+    m.ucs_pa = u.peak_stress_pa;
+    m.bts_pa = b.tensile_strength_pa;
+    m.youngs_modulus_pa = u.linear_elastic.youngs_modulus_pa;
+    m.poisson_ratio = u.linear_elastic.poisson_ratio;
+    m.critical_time_step_s = u.critical_time_step_s;
+    return m;
+  };
+  LatticeCalibrationSummary summary = CalibrateLattice(target, options, run_round);
+  summary.ucs_particles = ucs.size();
+  summary.bts_particles = bts.size();
+  return summary;
+}
+
+LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const LatticeCalibrationOptions& options,
+                                           const LatticeRoundModel& measure) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(error);
+  if (!target.IsValid(&error)) throw InputError(error);
+  if (!(target.poisson_ratio > -1.0 && target.poisson_ratio < 0.5))
+    throw InputError("poisson_ratio = " + Number(target.poisson_ratio) +
+                     ": the plane-strain lattice needs nu in (-1, 0.5)");
   const auto start = std::chrono::steady_clock::now();
   LatticeCalibrationSummary summary;
   summary.target = target;
@@ -89,8 +121,6 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
   if (summary.friction_angle_deg > 60.0)
     throw InputError("friction_angle = " + Number(summary.friction_angle_deg) +
                      ": the lattice's Mohr-Coulomb limit takes at most 60 degrees");
-  summary.ucs_particles = ucs.size();
-  summary.bts_particles = bts.size();
   LatticeMaterial material;
   // D in closed form: the target's own constants (the orthotropic ones where given; E and nu
   // are then the apparent constants along y that the UCS checks).
@@ -140,28 +170,17 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
                        "lattice round " + std::to_string(round) + ": c " + Format("%.4g", material.strength.cohesion_pa) +
                            " Pa, sigma_t " + Format("%.4g", material.strength.tensile_strength_pa) + " Pa, phi " +
                            Format("%.3g", phi_deg) + " degrees");
-    LabTestOptions ucs_test = options.test, bts_test = options.test;
-    ucs_test.kind = LabTestKind::kUniaxialCompression;
-    bts_test.kind = LabTestKind::kBrazilian;
-    ucs_test.progress = bts_test.progress = nullptr;
-    auto bts_run = std::async(std::launch::async,
-                              [&]() { return RunLatticeLabTest(bts, material, bts_test, options.protocol); });
-    const LabTestResult u = RunLatticeLabTest(ucs, material, ucs_test, options.protocol);
-    const LabTestResult b = bts_run.get();
-    if (!u.peak_reached || !b.peak_reached)
-      throw ComputationError(std::string("lattice round ") + std::to_string(round) + ": the " +
-                             (!u.peak_reached ? "UCS" : "Brazilian") + " test " +
-                             (!u.peak_reached ? u.termination_message : b.termination_message));
+    const LatticeRoundMeasurement u = measure(material, round);
     summary.critical_time_step_s = u.critical_time_step_s;
     LatticeCalibrationRound r;
     r.round = round;
     r.cohesion_pa = material.strength.cohesion_pa;
     r.tensile_strength_pa = material.strength.tensile_strength_pa;
     r.friction_angle_deg = phi_deg;
-    r.ucs_pa = u.peak_stress_pa;
-    r.bts_pa = b.tensile_strength_pa;
-    r.youngs_modulus_pa = u.linear_elastic.youngs_modulus_pa;
-    r.poisson_ratio = u.linear_elastic.poisson_ratio;
+    r.ucs_pa = u.ucs_pa;
+    r.bts_pa = u.bts_pa;
+    r.youngs_modulus_pa = u.youngs_modulus_pa;
+    r.poisson_ratio = u.poisson_ratio;
     r.error_ucs = r.ucs_pa / target.ucs_pa - 1.0;
     r.error_tensile = r.bts_pa / target.tensile_strength_pa - 1.0;
     r.error_youngs = r.youngs_modulus_pa / target.youngs_modulus_pa - 1.0;

@@ -25,6 +25,7 @@
 //   LatticeCalibrationSummary s = CalibrateLattice(ucs_packing, bts_packing, target, options);
 //   std::cout << s.FullReport();
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -86,5 +87,22 @@ struct LatticeCalibrationSummary {
 // ComputationError when a test reaches no peak.
 LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<2>& bts, const TargetMaterial& target,
                                            const LatticeCalibrationOptions& options);
+
+// What a round measures at the triangles' strengths: the UCS (and its linear portion's E and
+// nu) and the Brazilian strength.
+struct LatticeRoundMeasurement {
+  double ucs_pa = 0.0, bts_pa = 0.0;
+  double youngs_modulus_pa = 0.0, poisson_ratio = 0.0;
+  double critical_time_step_s = 0.0;  // of the UCS test
+};
+// The round's tests at `material` (round: 1-based, for messages); throws ComputationError
+// when a test fails.
+using LatticeRoundModel = std::function<LatticeRoundMeasurement(const LatticeMaterial& material, int round)>;
+
+// The same rounds on any model of the two tests (the one above runs the lattice on the two
+// specimens; the tests use a cheap closed form with a cap and a leap, to check the steps in
+// milliseconds). The particle counts of the summary are left 0.
+LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const LatticeCalibrationOptions& options,
+                                           const LatticeRoundModel& measure);
 
 }  // namespace specimen
