@@ -169,23 +169,6 @@ SweepDesign WithLevels(SweepDesign design, int levels) {
   return design;
 }
 
-// A stored measurement as the surrogate takes it (groups back to E / kn and sigma / Rn on
-// this calibration's specimens).
-SurrogateMeasurement FromVerified(const VerifiedPoint& v, const PackingDescriptors& ucs,
-                                  const PackingDescriptors& bts) {
-  SurrogateMeasurement m;
-  m.ratios = v.ratios;
-  if (v.elastic_group > 0.0) {
-    m.youngs_per_stiffness = v.elastic_group * ucs.SolidCoordination() / ucs.CharacteristicRadius();
-    m.poisson_ratio = v.poisson_ratio;
-  }
-  if (v.compressive_group > 0.0 && v.tensile_group > 0.0) {
-    m.ucs_per_strength = v.compressive_group * ucs.SolidCoordination() / ucs.CharacteristicArea();
-    m.tensile_per_strength = v.tensile_group * bts.SolidCoordination() / bts.CharacteristicArea();
-  }
-  return m;
-}
-
 // A number every rank must agree on (a bound that sets the design, and so the sweep's points
 // and the maps' key), computed on rank 0 and sent to the others: one computation, and the
 // same bits everywhere even if it ran threads whose order is not reproducible.
@@ -517,7 +500,7 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     *stored = 0;
     for (const VerifiedPoint& v : maps.verified)
       if (MapsMatchPacking(v.specimen, summary.ucs_descriptors, nullptr)) {
-        surrogate.AddMeasurement(FromVerified(v, summary.ucs_descriptors, summary.bts_descriptors), /*stored=*/true);
+        surrogate.AddMeasurement(v.ToMeasurement(summary.ucs_descriptors, summary.bts_descriptors), /*stored=*/true);
         ++*stored;
       }
     CalibrationSolverOptions o;

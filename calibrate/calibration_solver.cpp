@@ -247,7 +247,7 @@ double CalibrationSolver::StrengthRatioMin(const MicroRatios& elastic, double* a
   double best = std::numeric_limits<double>::infinity();
   for (int k = 0; k <= 100; ++k) {
     const double x = lo + (hi - lo) * k / 100.0;
-    const double ratio = surrogate_.StrengthRatio(With(elastic, MicroRatio::kStrengthRatio, x));
+    const double ratio = surrogate_.GridStrengthRatio(With(elastic, MicroRatio::kStrengthRatio, x));
     if (ratio < best) best = ratio, *at = x;
   }
   return best;
@@ -258,7 +258,7 @@ double CalibrationSolver::StrengthRatioMax(const MicroRatios& elastic, double* a
   double best = -std::numeric_limits<double>::infinity();
   for (int k = 0; k <= 100; ++k) {
     const double x = lo + (hi - lo) * k / 100.0;
-    const double ratio = surrogate_.StrengthRatio(With(elastic, MicroRatio::kStrengthRatio, x));
+    const double ratio = surrogate_.GridStrengthRatio(With(elastic, MicroRatio::kStrengthRatio, x));
     if (ratio > best) best = ratio, *at = x;
   }
   return best;
@@ -304,23 +304,10 @@ bool CalibrationSolver::DeformableStart(double poisson, double avoid, MicroRatio
     const double lo = StrengthRatioMin(r, &unused), hi = StrengthRatioMax(r, &unused);
     *ratio_min = std::min(*ratio_min, lo);
     *ratio_max = std::max(*ratio_max, hi);
-    // The candidates are ranked by the sweep's own points where the maps have them (the
-    // fitted surfaces flatten the ratio's peak along kt/kn, sweep_grid.h: two DDEM twins
-    // were started at kt/kn 0.26-0.29, where the ratio tops out at 17.7, against 19.0 and
-    // 22.2 measured at their hidden kt/kn 0.38-0.44 and 25.7 at 0.40).
-    double rank_lo = lo, rank_hi = hi;
-    if (surrogate_.HasSweepGrid()) {
-      const double x_lo = surrogate_.Lower(MicroRatio::kStrengthRatio), x_hi = surrogate_.Upper(MicroRatio::kStrengthRatio);
-      rank_lo = std::numeric_limits<double>::infinity(), rank_hi = -rank_lo;
-      for (int j = 0; j <= 100; ++j) {
-        const double g = surrogate_.GridStrengthRatio(With(r, MicroRatio::kStrengthRatio, x_lo + (x_hi - x_lo) * j / 100.0));
-        rank_lo = std::min(rank_lo, g), rank_hi = std::max(rank_hi, g);
-      }
-    }
     // The margin, in logarithms, by which the target lies inside the interval of the ratio
     // (negative outside): the kt/kn where a transfer error of the maps is least likely to
     // put the target out of reach. Ties: the stiffer particles (more margin to rho(B)).
-    const double margin = std::min(std::log(target_ratio / rank_lo), std::log(rank_hi / target_ratio));
+    const double margin = std::min(std::log(target_ratio / lo), std::log(hi / target_ratio));
     const double score = margin - 1e-3 * c / compliance_upper_;
     if (score > best_score) best_score = score, *start = r;
   }

@@ -47,6 +47,20 @@ nlohmann::json VerifiedPoint::ToJson() const {
           {"origin", origin}};
 }
 
+SurrogateMeasurement VerifiedPoint::ToMeasurement(const PackingDescriptors& ucs, const PackingDescriptors& bts) const {
+  SurrogateMeasurement m;
+  m.ratios = ratios;
+  if (elastic_group > 0.0) {
+    m.youngs_per_stiffness = elastic_group * ucs.SolidCoordination() / ucs.CharacteristicRadius();
+    m.poisson_ratio = poisson_ratio;
+  }
+  if (compressive_group > 0.0 && tensile_group > 0.0) {
+    m.ucs_per_strength = compressive_group * ucs.SolidCoordination() / ucs.CharacteristicArea();
+    m.tensile_per_strength = tensile_group * bts.SolidCoordination() / bts.CharacteristicArea();
+  }
+  return m;
+}
+
 VerifiedPoint VerifiedPoint::FromJson(const nlohmann::json& j) {
   VerifiedPoint v;
   v.ratios = SweepPointRatiosFromJson(j.at("ratios"));

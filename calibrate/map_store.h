@@ -17,6 +17,7 @@
 #include "calibrate/dimensionless_groups.h"
 #include "calibrate/map_set.h"
 #include "calibrate/map_sweep.h"
+#include "calibrate/surrogate.h"
 
 namespace specimen {
 
@@ -33,6 +34,10 @@ struct VerifiedPoint {
   double compressive_group = 0.0;  // 0: no strengths
   double tensile_group = 0.0;
   std::string origin = "calibration";  // "anchor" or "calibration"
+
+  // As the surrogate takes it: the groups back to E / kn and sigma / Rn on specimens with
+  // these descriptors (the UCS specimen's for E and sigma_c, the Brazilian's for sigma_t).
+  SurrogateMeasurement ToMeasurement(const PackingDescriptors& ucs, const PackingDescriptors& bts) const;
 
   nlohmann::json ToJson() const;
   static VerifiedPoint FromJson(const nlohmann::json& j);

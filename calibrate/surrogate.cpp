@@ -108,12 +108,13 @@ double CalibrationSurrogate::TensilePerStrength(const MicroRatios& r, const Micr
   return std::exp(MapValue(kTensile, x) + Correction(kTensile, x, line));
 }
 
-double CalibrationSurrogate::GridStrengthRatio(const MicroRatios& r) const {
-  if (!grid_.valid()) return StrengthRatio(r);
+double CalibrationSurrogate::GridStrengthRatio(const MicroRatios& r, bool corrected) const {
+  if (!grid_.valid()) return corrected ? StrengthRatio(r) : MapUcsPerStrength(r) / MapTensilePerStrength(r);
   const Eigen::VectorXd s = Scaled(Inputs(r));
   const double factor = std::log(ucs_factor_ / tensile_factor_);
   double sum = 0.0, weights = 0.0;
   for (const Anchor& a : points_) {
+    if (!corrected) break;
     if (!a.has_strength) continue;
     const double w = a.weight / ((s - a.scaled).squaredNorm() + kSmoothing * kSmoothing);
     sum += w * (a.log_ratio - (grid_.LogGroupRatio(a.ratios) + factor));
@@ -136,7 +137,9 @@ double CalibrationSurrogate::MapTensilePerStrength(const MicroRatios& r) const {
 std::vector<double> CalibrationSurrogate::StoredStrengthRatioCorrections() const {
   std::vector<double> out;
   for (const Anchor& a : points_)
-    if (a.stored && a.has_strength) out.push_back(a.delta[kCompressive] - a.delta[kTensile]);
+    if (a.stored && a.has_strength)
+      out.push_back(grid_.valid() ? a.log_ratio - (grid_.LogGroupRatio(a.ratios) + std::log(ucs_factor_ / tensile_factor_))
+                                  : a.delta[kCompressive] - a.delta[kTensile]);
   return out;
 }
 

@@ -74,9 +74,9 @@ class CalibrationSurrogate {
   void SetSweepGrid(SweepGrid grid) { grid_ = std::move(grid); }
   bool HasSweepGrid() const { return grid_.valid(); }
   // sigma_c / sigma_t on the real specimens from the sweep grid, corrected as above by the
-  // measurements (ln of the measured ratio minus the grid's at each); StrengthRatio without
-  // a grid.
-  double GridStrengthRatio(const MicroRatios& ratios) const;
+  // measurements (ln of the measured ratio minus the grid's at each; not with `corrected`
+  // false); StrengthRatio (corrected or not alike) without a grid.
+  double GridStrengthRatio(const MicroRatios& ratios, bool corrected = true) const;
 
   // The same from the fitted surfaces alone (the transfer error is measured against these).
   double MapYoungsPerStiffness(const MicroRatios& ratios) const;
@@ -84,8 +84,9 @@ class CalibrationSurrogate {
   double MapUcsPerStrength(const MicroRatios& ratios) const;
   double MapTensilePerStrength(const MicroRatios& ratios) const;
 
-  // ln(sigma_c / sigma_t) measured minus the surfaces' value, at each stored measurement with
-  // strengths: how far, and how uniformly, the ratio transfers from the map specimens.
+  // ln(sigma_c / sigma_t) measured minus the sweep grid's value (the surfaces' without a
+  // grid), at each stored measurement with strengths: how far, and how uniformly, the ratio
+  // transfers from the map specimens.
   std::vector<double> StoredStrengthRatioCorrections() const;
   // The measurements stored with the maps, as given.
   const std::vector<SurrogateMeasurement>& stored_measurements() const { return stored_; }

@@ -524,7 +524,7 @@ TEST(CalibrationSolver, DeformableTwinTargetsAboveTheRigidLimit) {
 // surfaces (total degree 2) flatten. Of the elastic sets that give the target's nu, the start is
 // the one whose ratio reaches farthest towards a target above every set: ranked by the sweep's
 // own points (sweep_grid.h) it is the true one, ranked by the fitted surfaces it is not.
-TEST(CalibrationSolver, TheSweepPointsRankTheDeformableElasticSets) {
+TEST(CalibrationSolver, TheSweepPointsRankTheDeformableElasticSetsAndGiveTheReach) {
   const double compliance = 0.4;
   kt_peak = std::log(1.6);
   struct Reset {
@@ -576,13 +576,20 @@ TEST(CalibrationSolver, TheSweepPointsRankTheDeformableElasticSets) {
     }
     FakeModel model(5);
     CalibrationSolver solver(surrogate, target, Options(compliance), &model);
-    return solver.AssessReach().start.tangential_to_normal_stiffness;
+    const CalibrationReach& reach = solver.AssessReach();
+    return std::make_pair(reach.start.tangential_to_normal_stiffness, reach.strength_ratio_max);
   };
-  const double ranked = start(true), unranked = start(false);
+  const auto [ranked, grid_top] = start(true);
+  const auto [unranked, surface_top] = start(false);
   SCOPED_TRACE("true best kt/kn " + std::to_string(true_best) + ", by the sweep points " + std::to_string(ranked) +
-               ", by the surfaces " + std::to_string(unranked));
+               ", by the surfaces " + std::to_string(unranked) + "; the top of the ratio " + std::to_string(true_top) +
+               ", reported " + std::to_string(grid_top) + " (by the surfaces " + std::to_string(surface_top) + ")");
   EXPECT_NEAR(ranked, true_best, 0.03);
   EXPECT_GT(std::abs(unranked - true_best), 0.06);
+  // The reach reported is the sweep points' too: its top near the true one, which the
+  // surfaces flatten.
+  EXPECT_NEAR(grid_top / true_top, 1.0, 0.05);
+  EXPECT_LT(surface_top / true_top, 0.9);
 }
 
 // A strength ratio above the reach is reported before any strength test, with the interval,
