@@ -41,7 +41,7 @@ namespace specimen {
 struct LatticeCalibrationOptions {
   double tolerance_youngs = 0.015, tolerance_poisson = 0.015;  // the linear portion's check
   double tolerance_ucs = 0.02, tolerance_tensile = 0.05;
-  int max_rounds = 6;                 // in [1, 20]
+  int max_rounds = 12;                // in [1, 20]; a round is two short tests
   LabTestOptions test;                // rate, sampling (kind is set per test)
   LatticeProtocol protocol;
   ProgressCallback progress;          // may be empty

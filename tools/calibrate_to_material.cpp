@@ -59,7 +59,7 @@ struct CommandLine {
   std::string maps_file;
   bool no_reuse = false;
   int threads = 0;
-  int rounds = 6;
+  std::optional<int> rounds;  // default: 6 bonded, 12 lattice
   double max_spectral_radius = 0.9;
   double particle_poisson_ratio = 0.45;
   double friction = 0.8;
@@ -232,7 +232,7 @@ int RunLattice(const TargetMaterial& target, const CommandLine& cl) {
   CheckCalibrationOutputLocation(output);
   TerminalProgress progress(cl.quiet);
   LatticeCalibrationOptions options;
-  options.max_rounds = cl.rounds;
+  options.max_rounds = cl.rounds.value_or(options.max_rounds);
   if (cl.rate_group) options.test.loading_rate_group = *cl.rate_group;
   options.progress = progress.Callback();
   std::string error;
@@ -333,7 +333,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-reuse", cl.no_reuse, "build the maps again even if stored ones match");
   app.add_option("--threads,--workers", cl.threads,
                  "sweep points (and elastic runs) at once on each rank, default: hardware threads");
-  app.add_option("--rounds", cl.rounds, "strength rounds (UCS + BTS) at most, 1 to 20, default 6");
+  app.add_option("--rounds", cl.rounds, "strength rounds (UCS + BTS) at most, 1 to 20, default 6 (lattice: 12)");
   app.add_option("--max-spectral-radius", cl.max_spectral_radius,
                  "bound on rho(B) of the DDEM iteration, in (0, 1), default 0.9");
   app.add_option("--nu-p", cl.particle_poisson_ratio, "particle Poisson ratio of the DDEM maps, default 0.45");
@@ -385,7 +385,7 @@ int main(int argc, char** argv) {
     options.maps_file = cl.maps_file;
     options.reuse_maps = !cl.no_reuse;
     options.workers = cl.threads;
-    options.max_verification_rounds = cl.rounds;
+    options.max_verification_rounds = cl.rounds.value_or(options.max_verification_rounds);
     options.max_spectral_radius = cl.max_spectral_radius;
     options.particle_poisson_ratio = cl.particle_poisson_ratio;
     options.friction_coefficient = cl.friction;
