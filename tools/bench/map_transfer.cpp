@@ -14,6 +14,7 @@
 // collects the points from the calibration benchmark's rounds and prints the table.
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -66,7 +67,8 @@ int Run(const std::string& maps_path, const std::string& ucs_path, const std::st
                                              "tensile_strength_pa"};
   if (header != expected) throw InputError(points_path + ": the header must be label,kt_over_kn,kn_over_ep_l,"
                                                          "rt_over_rn,ucs_pa,tensile_strength_pa");
-  std::printf("label,measured,surfaces,surfaces_corrected,grid,grid_corrected,stored_measurements\n");
+  // Printed only once every line has been read: a bad line leaves no partial table.
+  std::string table = "label,measured,surfaces,surfaces_corrected,grid,grid_corrected,stored_measurements\n";
   int row = 1;
   while (std::getline(in, line)) {
     ++row;
@@ -74,15 +76,31 @@ int Run(const std::string& maps_path, const std::string& ucs_path, const std::st
     const std::vector<std::string> f = Split(line);
     if (f.size() != expected.size())
       throw InputError(points_path + ", line " + std::to_string(row) + ": 6 fields expected");
+    // A field that is not a positive number (kn/(Ep l): not negative) is named with its line.
+    auto number = [&](int k, bool zero_allowed) {
+      double v = 0.0;
+      try {
+        v = std::stod(f[k]);
+      } catch (const std::exception&) {
+        v = std::nan("");
+      }
+      if (!(std::isfinite(v) && (v > 0.0 || (zero_allowed && v == 0.0))))
+        throw InputError(points_path + ", line " + std::to_string(row) + ": " + expected[k] + " = '" + f[k] +
+                         "' must be a " + (zero_allowed ? "non-negative" : "positive") + " number");
+      return v;
+    };
     specimen::MicroRatios r = maps.maps.fixed;
-    r.tangential_to_normal_stiffness = std::stod(f[1]);
-    r.normal_stiffness_to_particle = std::stod(f[2]);
-    r.shear_to_tensile_strength = std::stod(f[3]);
-    const double measured = std::stod(f[4]) / std::stod(f[5]);
-    std::printf("%s,%.6g,%.6g,%.6g,%.6g,%.6g,%d\n", f[0].c_str(), measured,
+    r.tangential_to_normal_stiffness = number(1, false);
+    r.normal_stiffness_to_particle = number(2, true);
+    r.shear_to_tensile_strength = number(3, false);
+    const double measured = number(4, false) / number(5, false);
+    char line_out[512];
+    std::snprintf(line_out, sizeof line_out, "%s,%.6g,%.6g,%.6g,%.6g,%.6g,%d\n", f[0].c_str(), measured,
                 surrogate.MapUcsPerStrength(r) / surrogate.MapTensilePerStrength(r), surrogate.StrengthRatio(r),
                 surrogate.GridStrengthRatio(r, /*corrected=*/false), surrogate.GridStrengthRatio(r), stored);
+    table += line_out;
   }
+  std::fputs(table.c_str(), stdout);
   return 0;
 }
 
