@@ -146,6 +146,29 @@ LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const L
     double log_sigma_t, log_strength;  // ln of the triangles' sigma_t and of the measured UCS
   };
   std::vector<LogPoint> on_tension;  // the rounds stepped by sigma_t (c kept)
+  std::vector<LogPoint> brazilian;   // this friction angle's rounds: sigma_t -> the Brazilian strength
+  // The nearest rounds on both sides of `goal` (the one below at the largest sigma_t, the one
+  // above at the smallest), when they bracket it in sigma_t.
+  struct Bracket {
+    const LogPoint* below = nullptr;
+    const LogPoint* above = nullptr;
+    explicit operator bool() const { return below && above && below->log_sigma_t < above->log_sigma_t; }
+  };
+  auto bracket_of = [](const std::vector<LogPoint>& points, double goal_log) {
+    Bracket b;
+    for (const LogPoint& q : points) {
+      if (q.log_strength < goal_log && (!b.below || q.log_sigma_t > b.below->log_sigma_t)) b.below = &q;
+      if (q.log_strength > goal_log && (!b.above || q.log_sigma_t < b.above->log_sigma_t)) b.above = &q;
+    }
+    return b;
+  };
+  // The secant between a bracket's ends, kept a tenth of the bracket from either end.
+  auto inside = [](const Bracket& b, double goal_log) {
+    const double width = b.above->log_sigma_t - b.below->log_sigma_t;
+    const double secant = b.below->log_sigma_t + (goal_log - b.below->log_strength) * width /
+                                                     (b.above->log_strength - b.below->log_strength);
+    return std::clamp(secant, b.below->log_sigma_t + 0.1 * width, b.above->log_sigma_t - 0.1 * width);
+  };
   // The weighted error of a round: the UCS's, and sigma_t's unless it is given up.
   auto weighted_error = [&](const LatticeCalibrationRound& r) {
     return std::pow(std::log1p(r.error_ucs) / tau_c, 2) +
@@ -199,7 +222,10 @@ LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const L
       break;
     // Each strength is stepped by its own secant in logarithms (the UCS by c, sigma_t by the
     // triangles' sigma_t): the slope measured between the last two rounds at this friction
-    // angle where that strength moved, clamped to [0.2, 1.5], else 1. A Brazilian strength
+    // angle where that strength moved, clamped to [0.2, 1.5] (the Brazilian's to [0.5, 1.5]:
+    // below the shear limit it is proportional to sigma_t, on the limit it barely moves, and a
+    // secant across that knee would throw the step far past the target), else 1. Rounds on
+    // both sides of the target Brazilian strength bracket the next sigma_t. A Brazilian strength
     // that no longer follows the triangles' sigma_t (a rise of 10 % or more moving it less
     // than 1 %) is capped by the shear limit at this friction angle.
     // Likewise a UCS that no longer follows c (a rise of 10 % or more raising it by less than
@@ -216,9 +242,11 @@ LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const L
         const bool not_rising = p[k] - previous_p[k] >= std::log(1.1) &&
                                 (m[k] - previous_m[k] < std::log(1.01) || slope < 0.1);
         if (k == 0 && not_rising && !ucs_on_tension) ucs_capped_now = true;
-        slopes[k] = std::clamp(slope, 0.2, 1.5);
+        slopes[k] = std::clamp(slope, k == 1 ? 0.5 : 0.2, 1.5);
       }
     }
+    if (round == first_round_at_phi) brazilian.clear();
+    brazilian.push_back({p[1], m[1]});
     if (ucs_capped_now) {
       // The UCS is then reached through the triangles' sigma_t (slope 1: on the cut-off both
       // strengths scale with it), c kept where it is; the Brazilian strength follows sigma_t
@@ -285,17 +313,11 @@ LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const L
       // from its ends. Near the point where the specimen stops splitting first the UCS leaps
       // (Navajo sandstone: 155.9 MPa at sigma_t 19.9 MPa, 674 MPa at 27.3), and the clamped
       // secant of the last two rounds would step far outside.
-      const LogPoint* below = nullptr;
-      const LogPoint* above = nullptr;
-      for (const LogPoint& q : on_tension) {
-        if (q.log_strength < goal[0] && (!below || q.log_sigma_t > below->log_sigma_t)) below = &q;
-        if (q.log_strength > goal[0] && (!above || q.log_sigma_t < above->log_sigma_t)) above = &q;
-      }
-      if (below && above && below->log_sigma_t < above->log_sigma_t) {
+      if (const Bracket b = bracket_of(on_tension, goal[0])) {
+        const LogPoint* below = b.below;
+        const LogPoint* above = b.above;
         const double width = above->log_sigma_t - below->log_sigma_t;
-        const double secant = below->log_sigma_t + (goal[0] - below->log_strength) * width /
-                                                       (above->log_strength - below->log_strength);
-        p[1] = std::clamp(secant, below->log_sigma_t + 0.1 * width, above->log_sigma_t - 0.1 * width);
+        p[1] = inside(b, goal[0]);
         // Two rounds in a row on the same side: the secant creeps towards a leap from one end
         // (regula falsi), so the bracket is halved instead (in logarithms).
         const size_t n = on_tension.size();
@@ -324,6 +346,8 @@ LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const L
       if (k == 1 && summary.tensile_capped) continue;
       p[k] += std::clamp((goal[k] - m[k]) / slopes[k], -std::log(3.0), std::log(3.0));
     }
+    if (!summary.tensile_capped)
+      if (const Bracket b = bracket_of(brazilian, goal[1])) p[1] = inside(b, goal[1]);
   }
   summary.friction_angle_deg = summary.material.strength.friction_angle_deg;
   const LatticeCalibrationRound& best = summary.rounds[summary.best_round - 1];

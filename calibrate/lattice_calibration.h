@@ -9,7 +9,9 @@
 //     and sigma_t = the target's;
 //   - each round measures the UCS and the Brazilian sigma_t; each strength of the triangles is
 //     stepped by its own secant in logarithms (c for the UCS, sigma_t for the Brazilian; the
-//     slope 1 at first, then measured, clamped to [0.2, 1.5]), at most a factor 3 per step;
+//     slope 1 at first, then measured, clamped to [0.2, 1.5], the Brazilian's to [0.5, 1.5]),
+//     at most a factor 3 per step; rounds on both sides of the target Brazilian strength
+//     bracket the next sigma_t;
 //   - a Brazilian strength that stops following the triangles' sigma_t is capped by their
 //     shear limit. With a free friction angle it is lowered (at most twice, to 5 degrees at
 //     the least; LowerFrictionAngle in the .cpp) and c follows; with the target's angle, or at

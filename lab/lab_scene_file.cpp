@@ -351,6 +351,15 @@ void ReadTest(const toml::table* table, const std::string& source, LabScene* sce
   t.Number("platen_stiffness_ratio", &o.platen_stiffness_ratio);
   t.Number("platen_friction", &o.platen_friction);
   scene->platen_zone_given = t.Number("platen_zone", &scene->lattice_protocol.platen_zone_share);
+  // The lattice's cap on the rate (LatticeProtocol), for the scene's one test.
+  double wave_share = 0.0;
+  scene->wave_share_given = t.Number("wave_share", &wave_share);
+  if (scene->wave_share_given) {
+    if (!(wave_share >= 0.0 && wave_share <= 1.0))
+      throw InputError(t.where() + ": wave_share = " + Number(wave_share) +
+                       " is not allowed: it must be in [0, 1] (0: the loading-rate group as given)");
+    scene->lattice_protocol.compression_wave_share = scene->lattice_protocol.brazilian_wave_share = wave_share;
+  }
   // A lattice scene keeps LatticeProtocol's own default unless the key is given.
   if (t.Number("local_damping", &o.local_damping)) scene->lattice_protocol.local_damping = o.local_damping;
   t.Number("dashpot_ratio", &o.dashpot_ratio);
@@ -441,7 +450,7 @@ LabScene ParseLabScene(const std::string& toml_text, const std::string& source) 
         "pause_kinetic_energy_ratio", "max_pause_transits", "pause_on_breakage", "pause_ramp_transits",
         "strain_boundary_margin", "confining_stresses", "servo_gain_fraction",
         "servo_integral_transits", "consolidation_tolerance", "platen_stiffness_ratio", "platen_friction",
-        "dashpot_ratio", "mass_scaling", "quasi_static_check", "quasi_static_tolerance"};
+        "dashpot_ratio", "mass_scaling"};
     if (const toml::table* test = root["test"].as_table())
       for (const auto& [key, value] : *test) {
         (void)value;
@@ -449,8 +458,9 @@ LabScene ParseLabScene(const std::string& toml_text, const std::string& source) 
           throw InputError(source + " [test]: '" + std::string(key.str()) +
                            "' is a setting of the bonded tests; the lattice model does not use it");
       }
-  } else if (scene.platen_zone_given) {
-    throw InputError(source + " [test]: 'platen_zone' is for model = \"lattice\" ([material])");
+  } else if (scene.platen_zone_given || scene.wave_share_given) {
+    throw InputError(source + " [test]: '" + (scene.platen_zone_given ? "platen_zone" : "wave_share") +
+                     "' is for model = \"lattice\" ([material])");
   }
   return scene;
 }

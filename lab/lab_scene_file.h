@@ -46,6 +46,8 @@
 //   consolidation_tolerance, platen_stiffness_ratio, platen_friction, local_damping,
 //   dashpot_ratio, mass_scaling (mass_scaling_budget), quasi_static_tolerance, threads;
 //   lattice Brazilian: platen_zone (LatticeProtocol::platen_zone_share)
+//   lattice: wave_share (the cap on the rate, LatticeProtocol::compression_wave_share or
+//   brazilian_wave_share by the kind; 0 = the loading-rate group as given)
 //
 //   [output]
 //   name = "ucs_2d"                   # file name prefix (default: the scene file's name)
@@ -79,6 +81,7 @@ struct LabScene {
   LatticeMaterial lattice_material;
   LatticeProtocol lattice_protocol;
   bool platen_zone_given = false;
+  bool wave_share_given = false;
   bool plane_model_given = false;  // a 2D setting: refused with a 3D specimen
   LabTestOptions test;
   std::vector<double> confining_stresses_pa;  // biaxial envelope when not empty

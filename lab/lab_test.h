@@ -425,4 +425,10 @@ template <int Dim>
 LabTestResult RunLabTest(const Packing<Dim>& packing, const MaterialParameters& material,
                          const LabTestOptions& options);
 
+// The quasi-static check of `result` against the same test at half the rate (`slow`): the
+// relative changes of the modulus and the peak that options.kind compares, against
+// options.quasi_static_tolerance.
+QuasiStaticCheck CompareAtHalfRate(const LabTestOptions& options, const LabTestResult& result,
+                                   const LabTestResult& slow);
+
 }  // namespace specimen

@@ -17,6 +17,8 @@ namespace specimen {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// A maximum of the control this much above the largest sampled one is sampled (relative).
+constexpr double kPeakResolution = 2e-3;
 
 // Node sets of the specimen: the platen nodes, the sides, the nodes held in x.
 struct Supports {
@@ -147,15 +149,22 @@ bool LatticeProtocol::IsValid(std::string* error) const {
     *error = "local_damping = " + Number(local_damping) + ": must be in [0, 1)";
     return false;
   }
+  for (const auto& [name, share] : {std::pair<const char*, double>{"compression_wave_share", compression_wave_share},
+                                    {"brazilian_wave_share", brazilian_wave_share}})
+    if (!(share >= 0.0 && share <= 1.0)) {
+      *error = std::string(name) + " = " + Number(share) + ": must be in [0, 1] (0: the loading-rate group as given)";
+      return false;
+    }
   return true;
 }
 
-LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial& material,
-                                const LabTestOptions& options, const LatticeProtocol& protocol) {
-  std::string error;
-  if (!options.IsValid(&error)) throw InputError(error);
-  if (!protocol.IsValid(&error)) throw InputError(error);
-  if (!material.IsValid(&error)) throw InputError(error);
+namespace {
+
+// The test at `rate_factor` x the platen speed of the options and the protocol (1, or 0.5 for
+// the quasi-static check); the inputs are checked by RunLatticeLabTest.
+LabTestResult RunLatticeTestAtRate(const Packing<2>& packing, const LatticeMaterial& material,
+                                   const LabTestOptions& options, const LatticeProtocol& protocol,
+                                   double rate_factor) {
   // `ucs`: a rectangle between platens, unconfined or (confined) with the confining stress
   // on its sides; else the Brazilian disc.
   const bool confined = options.kind == LabTestKind::kConfinedCompression;
@@ -184,8 +193,14 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
   const double height = ucs ? domain.Upper().y() - domain.Lower().y() : 2.0 * domain.CircleRadius();
   const double width = ucs ? domain.Upper().x() - domain.Lower().x() : 2.0 * domain.CircleRadius();
   const double wave_speed = std::sqrt(d.d22 / material.density_kg_per_m3);
-  const double speed = options.platen_speed_m_per_s > 0.0 ? options.platen_speed_m_per_s
-                                                          : options.loading_rate_group * wave_speed;
+  // The group, capped so that the platens' wave stress d22 g stays a small share of the
+  // weaker strength of the triangles (LatticeProtocol).
+  double group = options.loading_rate_group;
+  const double wave_share = ucs ? protocol.compression_wave_share : protocol.brazilian_wave_share;
+  const double weaker = std::min(material.strength.tensile_strength_pa, material.strength.cohesion_pa);
+  if (wave_share > 0.0) group = std::min(group, wave_share * weaker / d.d22);
+  const double speed =
+      rate_factor * (options.platen_speed_m_per_s > 0.0 ? options.platen_speed_m_per_s : group * wave_speed);
   const double transit = height / wave_speed;
   const double ramp = options.velocity_ramp_transits * transit;
   const double strain_limit = options.strain_limit > 0.0 ? options.strain_limit : 0.02;
@@ -258,6 +273,8 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
     platen_bottom0 = specimen.nodes[supports.held_x[1]].y();
   }
   double peak = 0.0;
+  double previous_control = 0.0;  // of the last step
+  bool rising = false;            // the control rose over the last step
   int peak_index = -1;
 
   const EdgeMap edges = options.record_snapshots ? ParticleEdges(specimen) : EdgeMap{};
@@ -393,8 +410,18 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
     if (!std::isfinite(force_top + force_bottom))
       throw ComputationError("the lattice test diverged at step " + std::to_string(step) + " (platen force not finite)");
 
-    const bool sample = step % options.sample_interval_steps == 0;
-    if (!sample) continue;
+    // The peak is resolved to the step, not to the sample interval: a sample is also taken at
+    // the first step that falls after a maximum of the control more than kPeakResolution above
+    // the largest sampled one (the control itself is known at every step).
+    const double control_now =
+        ucs ? 0.5 * (force_top + force_bottom) / width - sigma_3 : 0.5 * (force_top + force_bottom);
+    bool past_maximum = false;
+    if (t > ramp + consolidation) {
+      past_maximum = control_now < previous_control && rising && previous_control > (1.0 + kPeakResolution) * peak;
+      rising = control_now > previous_control;
+    }
+    previous_control = control_now;
+    if (!(step % options.sample_interval_steps == 0 || past_maximum)) continue;
     LabCurvePoint point;
     point.step = step;
     point.time_s = t;
@@ -478,6 +505,27 @@ LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial
     }
   }
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace
+
+LabTestResult RunLatticeLabTest(const Packing<2>& packing, const LatticeMaterial& material,
+                                const LabTestOptions& options, const LatticeProtocol& protocol) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(error);
+  if (!protocol.IsValid(&error)) throw InputError(error);
+  if (!material.IsValid(&error)) throw InputError(error);
+  LabTestResult result = RunLatticeTestAtRate(packing, material, options, protocol, 1.0);
+  if (options.check_quasi_static) {
+    LabTestOptions half = options;
+    half.check_quasi_static = false;
+    half.record_snapshots = false;
+    half.progress = nullptr;
+    const LabTestResult slow = RunLatticeTestAtRate(packing, material, half, protocol, 0.5);
+    result.quasi_static = CompareAtHalfRate(options, result, slow);
+    result.wall_seconds += slow.wall_seconds;
+  }
   return result;
 }
 

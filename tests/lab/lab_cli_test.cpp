@@ -347,6 +347,7 @@ TEST_F(RunTestCommand, LatticeBadInputWritesNothing) {
       {kLatticeMaterial, "kind = \"biaxial\"\nconfining_stresses = [1e6, 2e6]\n", "confining_stresses"},
       {kLatticeMaterial, "kind = \"ucs\"\npause_on_breakage = false\n", "pause_on_breakage"},
       {kLatticeMaterial, "kind = \"ucs\"\nplaten_zone = 0.5\n", "platen_zone"},
+      {kLatticeMaterial, "kind = \"brazilian\"\nwave_share = 1.5\n", "wave_share"},
       {"youngs_modulus = 30e9\npoisson_ratio = 0.25\ntensile_strength = 8e6\ndensity = 2650\n", "kind = \"ucs\"\n",
        "cohesion"},
       {"youngs_modulus = 30e9\npoisson_ratio = 0.6\ntensile_strength = 8e6\ncohesion = 25e6\ndensity = 2650\n",
@@ -364,10 +365,12 @@ TEST_F(RunTestCommand, LatticeBadInputWritesNothing) {
     EXPECT_NE(r.output.find(c.words), std::string::npos) << r.output;
     EXPECT_TRUE(MissingOrEmpty(dir / "out"));
   }
-  // platen_zone belongs to the lattice: refused with bonded particles.
-  const fs::path dir = Scratch("lattice_zone");
-  const Result r = RunTest(Scene(dir, "kind = \"ucs\"\nplaten_zone = 0.1\n").string() + " --output " +
-                           (dir / "out").string());
-  EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find("platen_zone"), std::string::npos) << r.output;
+  // platen_zone and wave_share belong to the lattice: refused with bonded particles.
+  for (const std::string key : {"platen_zone", "wave_share"}) {
+    const fs::path dir = Scratch("lattice_zone");
+    const Result r = RunTest(Scene(dir, "kind = \"ucs\"\n" + key + " = 0.1\n").string() + " --output " +
+                             (dir / "out").string());
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find(key), std::string::npos) << r.output;
+  }
 }

@@ -63,7 +63,7 @@ TEST(LatticeLab, LinearPortionReturnsTheInputConstants) {
 }
 
 // The UCS stress is homogeneous up to the inertia of the loading: the peak approaches the
-// closed form as the rate falls (measured 0.962, 0.968, 0.984 of it at rate groups 5e-5,
+// closed form as the rate falls (measured 0.976, 0.986, 0.996 of it at rate groups 5e-5,
 // 2.5e-5, 1e-5).
 TEST(LatticeLab, UcsIsTheTrianglesShearStrength) {
   const LatticeMaterial m = Material(0.25);
@@ -84,8 +84,7 @@ TEST(LatticeLab, UcsIsTheTrianglesShearStrength) {
 }
 
 // The disc splits in tension, with a post-peak, below the input sigma_t (the discrete stress
-// near the elastic platen zones runs ahead of the centre's, LatticeProtocol), nearly
-// independently of the rate (measured 5.22 and 4.99 MPa at rate groups 5e-5 and 1e-5).
+// near the elastic platen zones runs ahead of the centre's, LatticeProtocol).
 TEST(LatticeLab, BrazilianSplitsInTension) {
   const LatticeMaterial m = Material(0.25);
   LabTestOptions options;
@@ -98,14 +97,45 @@ TEST(LatticeLab, BrazilianSplitsInTension) {
   EXPECT_GT(r.broken_in_tension, 10 * r.broken_in_shear);
   EXPECT_GT(r.tensile_strength_pa, 0.5 * m.strength.tensile_strength_pa);
   EXPECT_LT(r.tensile_strength_pa, m.strength.tensile_strength_pa);
-  options.loading_rate_group = 1e-5;
-  const LabTestResult slow = RunLatticeLabTest(Disc(), m, options);
-  EXPECT_NEAR(slow.tensile_strength_pa / r.tensile_strength_pa, 1.0, 0.06);
   // Without the elastic platen zones the contact triangles break first, far below.
   LatticeProtocol bare;
   bare.platen_zone_share = 0.0;
-  options.loading_rate_group = 5e-5;
   EXPECT_LT(RunLatticeLabTest(Disc(), m, options, bare).tensile_strength_pa, 0.7 * r.tensile_strength_pa);
+}
+
+// A brittle rock (sigma_t / d22 4.2e-5, c / sigma_t 17). At the bonded tests' rate group 5e-5
+// the platens' wave stress d22 g exceeds sigma_t and the wave breaks triangles by itself: the
+// Brazilian strength comes out a third above its quasi-static value (on the default 5,064-disc
+// square the UCS fell to 29 % of the closed form; on this small one by 2.7 %). With the
+// protocol's cap on the rate the UCS is the triangles' Mohr-Coulomb strength within 1 %, four
+// times closer than uncapped, and the Brazilian strength changes by less than 1 % at half the
+// rate.
+TEST(LatticeLab, TheRateIsCappedSoThatTheStrengthsAreQuasiStatic) {
+  LatticeMaterial m = Material(0.25);
+  m.strength = {1.5e6, 25e6, 30.0};
+  const double closed_form = m.strength.TriangleCompressiveStrength();
+  LabTestOptions options;
+  LatticeProtocol uncapped;
+  uncapped.compression_wave_share = uncapped.brazilian_wave_share = 0.0;
+
+  const LabTestResult ucs = RunLatticeLabTest(Square(), m, options);
+  ASSERT_TRUE(ucs.peak_reached) << ucs.termination_message;
+  EXPECT_NEAR(ucs.loading_rate_group, 0.25 * 1.5e6 / m.elasticity.d22, 1e-12);
+  const LabTestResult ucs_fast = RunLatticeLabTest(Square(), m, options, uncapped);
+  EXPECT_DOUBLE_EQ(ucs_fast.loading_rate_group, 5e-5);
+  const double error = std::abs(ucs.peak_stress_pa / closed_form - 1.0);
+  EXPECT_LT(error, 0.01);
+  EXPECT_LT(error, 0.5 * std::abs(ucs_fast.peak_stress_pa / closed_form - 1.0));
+
+  options.kind = LabTestKind::kBrazilian;
+  options.check_quasi_static = true;
+  const LabTestResult bts = RunLatticeLabTest(Disc(), m, options);
+  ASSERT_TRUE(bts.peak_reached) << bts.termination_message;
+  ASSERT_TRUE(bts.quasi_static.performed);
+  EXPECT_TRUE(bts.quasi_static.passed) << "peak change " << bts.quasi_static.peak_change;
+  options.check_quasi_static = false;
+  const LabTestResult bts_fast = RunLatticeLabTest(Disc(), m, options, uncapped);
+  EXPECT_GT(bts_fast.tensile_strength_pa, 1.2 * bts.tensile_strength_pa);
 }
 
 // The confined (biaxial) test: sigma_3 on the sides, then the platens. The linear portion
@@ -154,6 +184,10 @@ TEST(LatticeLab, BadInputIsRefused) {
   protocol.platen_zone_share = 0.5;
   EXPECT_FALSE(protocol.IsValid(&error));
   EXPECT_NE(error.find("platen_zone"), std::string::npos);
+  protocol = LatticeProtocol{};
+  protocol.brazilian_wave_share = -0.1;
+  EXPECT_FALSE(protocol.IsValid(&error));
+  EXPECT_NE(error.find("brazilian_wave_share"), std::string::npos);
 }
 
 }  // namespace
