@@ -545,14 +545,26 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
   int line_id = 0;                       // the current elastic set
   std::vector<StrengthRound>& rounds = solution->rounds;
 
-  // ln(sigma / Rn) along Rt/Rn at the current elastic set: the corrected surfaces plus the
-  // line correction through this set's rounds.
+  // ln(sigma / Rn) off this line's own measurements: the corrected surfaces with their ratio
+  // replaced by the corrected sweep grid's, which predicts it better where the surfaces
+  // flatten its peaks (tools/bench/map_transfer.md), their level (the mean of the two logs)
+  // kept. Without a grid, the surfaces as they are.
+  auto off_line = [&](const MicroRatios& at, double* log_c, double* log_t) {
+    const double c = std::log(surrogate_.UcsPerStrength(at, &kX)), t = std::log(surrogate_.TensilePerStrength(at, &kX));
+    const double shift = 0.5 * (std::log(surrogate_.GridStrengthRatio(at, &kX)) - (c - t));
+    *log_c = c + shift;
+    *log_t = t - shift;
+  };
+  // ln(sigma / Rn) along Rt/Rn at the current elastic set: off_line plus the line correction
+  // through this set's rounds.
   auto line = [&](double x, double* log_c, double* log_t) {
     const MicroRatios r = With(set.ratios, kX, x);
     std::vector<std::pair<double, double>> rc, rt;
     auto add = [&](const MicroRatios& at, double ucs_per_strength, double tensile_per_strength) {
-      rc.push_back({Get(at, kX), std::log(ucs_per_strength) - std::log(surrogate_.UcsPerStrength(at, &kX))});
-      rt.push_back({Get(at, kX), std::log(tensile_per_strength) - std::log(surrogate_.TensilePerStrength(at, &kX))});
+      double c, t;
+      off_line(at, &c, &t);
+      rc.push_back({Get(at, kX), std::log(ucs_per_strength) - c});
+      rt.push_back({Get(at, kX), std::log(tensile_per_strength) - t});
     };
     for (const StrengthRound& k : rounds)
       if (k.elastic_set == line_id)
@@ -561,8 +573,9 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
     for (const SurrogateMeasurement& m : surrogate_.stored_measurements())
       if (m.ucs_per_strength > 0.0 && OnLine(m.ratios, set.ratios, kX, false))
         add(m.ratios, m.ucs_per_strength, m.tensile_per_strength);
-    *log_c = std::log(surrogate_.UcsPerStrength(r, &kX)) + Interpolate(rc, x, width);
-    *log_t = std::log(surrogate_.TensilePerStrength(r, &kX)) + Interpolate(rt, x, width);
+    off_line(r, log_c, log_t);
+    *log_c += Interpolate(rc, x, width);
+    *log_t += Interpolate(rt, x, width);
     // Between two measured points close enough (Rt/Rn within a factor 3.16, half the default
     // box in equal ratios), the measurements themselves, linear in ln(Rt/Rn): a secant in
     // logarithms, where the strengths of bonded specimens are near linear (the default

@@ -66,8 +66,9 @@ void CalibrationSurrogate::AddMeasurement(const SurrogateMeasurement& m, bool st
   if (stored) stored_.push_back(m);
 }
 
-double CalibrationSurrogate::Correction(Quantity q, const Eigen::VectorXd& x, const MicroRatio* line) const {
-  const bool elastic = q == kElastic || q == kPoisson;
+template <typename Value>
+double CalibrationSurrogate::ShepardMean(const Eigen::VectorXd& x, bool elastic, const MicroRatio* line,
+                                         Value value) const {
   const Eigen::VectorXd s = Scaled(x);
   int line_input = -1;
   if (line)
@@ -85,10 +86,14 @@ double CalibrationSurrogate::Correction(Quantity q, const Eigen::VectorXd& x, co
     }
     if (line && off_line <= 1e-18) continue;  // on the line
     const double w = a.weight / (d2 + kSmoothing * kSmoothing);
-    sum += w * a.delta[q];
+    sum += w * value(a);
     weights += w;
   }
   return weights > 0.0 ? sum / weights : 0.0;
+}
+
+double CalibrationSurrogate::Correction(Quantity q, const Eigen::VectorXd& x, const MicroRatio* line) const {
+  return ShepardMean(x, q == kElastic || q == kPoisson, line, [q](const Anchor& a) { return a.delta[q]; });
 }
 
 double CalibrationSurrogate::YoungsPerStiffness(const MicroRatios& r, const MicroRatio* line) const {
@@ -108,19 +113,20 @@ double CalibrationSurrogate::TensilePerStrength(const MicroRatios& r, const Micr
   return std::exp(MapValue(kTensile, x) + Correction(kTensile, x, line));
 }
 
-double CalibrationSurrogate::GridStrengthRatio(const MicroRatios& r, bool corrected) const {
-  if (!grid_.valid()) return corrected ? StrengthRatio(r) : MapUcsPerStrength(r) / MapTensilePerStrength(r);
-  const Eigen::VectorXd s = Scaled(Inputs(r));
-  const double factor = std::log(ucs_factor_ / tensile_factor_);
-  double sum = 0.0, weights = 0.0;
-  for (const Anchor& a : points_) {
-    if (!corrected) break;
-    if (!a.has_strength) continue;
-    const double w = a.weight / ((s - a.scaled).squaredNorm() + kSmoothing * kSmoothing);
-    sum += w * (a.log_ratio - (grid_.LogGroupRatio(a.ratios) + factor));
-    weights += w;
-  }
-  return std::exp(grid_.LogGroupRatio(r) + factor + (weights > 0.0 ? sum / weights : 0.0));
+double CalibrationSurrogate::LogGridRatio(const MicroRatios& r) const {
+  return grid_.LogGroupRatio(r) + std::log(ucs_factor_ / tensile_factor_);
+}
+
+double CalibrationSurrogate::GridStrengthRatio(const MicroRatios& r, const MicroRatio* line) const {
+  if (!grid_.valid()) return StrengthRatio(r, line);
+  const double correction =
+      ShepardMean(Inputs(r), false, line, [this](const Anchor& a) { return a.log_ratio - LogGridRatio(a.ratios); });
+  return std::exp(LogGridRatio(r) + correction);
+}
+
+double CalibrationSurrogate::MapGridStrengthRatio(const MicroRatios& r) const {
+  if (!grid_.valid()) return MapUcsPerStrength(r) / MapTensilePerStrength(r);
+  return std::exp(LogGridRatio(r));
 }
 
 double CalibrationSurrogate::MapYoungsPerStiffness(const MicroRatios& r) const {
@@ -138,8 +144,7 @@ std::vector<double> CalibrationSurrogate::StoredStrengthRatioCorrections() const
   std::vector<double> out;
   for (const Anchor& a : points_)
     if (a.stored && a.has_strength)
-      out.push_back(grid_.valid() ? a.log_ratio - (grid_.LogGroupRatio(a.ratios) + std::log(ucs_factor_ / tensile_factor_))
-                                  : a.delta[kCompressive] - a.delta[kTensile]);
+      out.push_back(grid_.valid() ? a.log_ratio - LogGridRatio(a.ratios) : a.delta[kCompressive] - a.delta[kTensile]);
   return out;
 }
 

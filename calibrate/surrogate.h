@@ -74,15 +74,17 @@ class CalibrationSurrogate {
   void SetSweepGrid(SweepGrid grid) { grid_ = std::move(grid); }
   bool HasSweepGrid() const { return grid_.valid(); }
   // sigma_c / sigma_t on the real specimens from the sweep grid, corrected as above by the
-  // measurements (ln of the measured ratio minus the grid's at each; not with `corrected`
-  // false); StrengthRatio (corrected or not alike) without a grid.
-  double GridStrengthRatio(const MicroRatios& ratios, bool corrected = true) const;
+  // measurements (ln of the measured ratio minus the grid's at each; `line` as above);
+  // StrengthRatio without a grid.
+  double GridStrengthRatio(const MicroRatios& ratios, const MicroRatio* line = nullptr) const;
 
   // The same from the fitted surfaces alone (the transfer error is measured against these).
   double MapYoungsPerStiffness(const MicroRatios& ratios) const;
   double MapPoisson(const MicroRatios& ratios) const;
   double MapUcsPerStrength(const MicroRatios& ratios) const;
   double MapTensilePerStrength(const MicroRatios& ratios) const;
+  // The sweep grid's sigma_c / sigma_t uncorrected (the fitted surfaces' without a grid).
+  double MapGridStrengthRatio(const MicroRatios& ratios) const;
 
   // ln(sigma_c / sigma_t) measured minus the sweep grid's value (the surfaces' without a
   // grid), at each stored measurement with strengths: how far, and how uniformly, the ratio
@@ -112,6 +114,12 @@ class CalibrationSurrogate {
   Eigen::VectorXd Scaled(const Eigen::VectorXd& inputs) const;
   double MapValue(Quantity q, const Eigen::VectorXd& inputs) const;
   double Correction(Quantity q, const Eigen::VectorXd& inputs, const MicroRatio* line) const;
+  // sum w_i v(a_i) / sum w_i over the anchors with elastic (or strength) data, those on
+  // `line` through `inputs` left out; 0 when none.
+  template <typename Value>
+  double ShepardMean(const Eigen::VectorXd& inputs, bool elastic, const MicroRatio* line, Value value) const;
+  // ln of the grid's ratio on the real specimens, uncorrected.
+  double LogGridRatio(const MicroRatios& ratios) const;
 
   MapSet maps_;
   Eigen::VectorXd lower_, upper_;

@@ -520,17 +520,8 @@ TEST(CalibrationSolver, DeformableTwinTargetsAboveTheRigidLimit) {
   }
 }
 
-// sigma_c / sigma_t peaks inside the kt/kn axis where Rt/Rn is large, a shape the fitted
-// surfaces (total degree 2) flatten. Of the elastic sets that give the target's nu, the start is
-// the one whose ratio reaches farthest towards a target above every set: ranked by the sweep's
-// own points (sweep_grid.h) it is the true one, ranked by the fitted surfaces it is not.
-TEST(CalibrationSolver, TheSweepPointsRankTheDeformableElasticSetsAndGiveTheReach) {
-  const double compliance = 0.4;
-  kt_peak = std::log(1.6);
-  struct Reset {
-    ~Reset() { kt_peak = 0.0; }
-  } reset;
-  const SweepDesign design = DesignOf(true, compliance);
+// The sweep of MapRock over a design's full-factorial grid, as the product's sweep stores it.
+MapSweep MapRockSweep(const SweepDesign& design) {
   const PackingDescriptors d = Specimen2D();
   const double youngs = d.SolidCoordination() / d.CharacteristicRadius();
   const double strength = d.SolidCoordination() / d.CharacteristicArea();
@@ -546,6 +537,38 @@ TEST(CalibrationSolver, TheSweepPointsRankTheDeformableElasticSetsAndGiveTheReac
     p.tensile_group = MapRock::TensilePerStrength(grid[i]) / strength;
     sweep.points.push_back(p);
   }
+  return sweep;
+}
+
+// The surrogate of that sweep (surfaces of total degree 2, and its grid when asked), corrected
+// by the design's transfer anchors measured exactly on the real specimen (Rock).
+CalibrationSurrogate SweepSurrogate(const MapSweep& sweep, const SweepDesign& design, bool with_grid) {
+  CalibrationSurrogate surrogate(FitMaps(sweep, design, 2), Specimen2D(), Specimen2D());
+  if (with_grid) surrogate.SetSweepGrid(SweepGrid(design, sweep.points));
+  for (const MicroRatios& r : TransferAnchorPoints(design)) {
+    SurrogateMeasurement m;
+    m.ratios = r;
+    m.youngs_per_stiffness = Rock::YoungsPerStiffness(r);
+    m.poisson_ratio = Rock::Poisson(r);
+    m.ucs_per_strength = Rock::UcsPerStrength(r);
+    m.tensile_per_strength = Rock::TensilePerStrength(r);
+    surrogate.AddMeasurement(m, /*stored=*/true);
+  }
+  return surrogate;
+}
+
+// sigma_c / sigma_t peaks inside the kt/kn axis where Rt/Rn is large, a shape the fitted
+// surfaces (total degree 2) flatten. Of the elastic sets that give the target's nu, the start is
+// the one whose ratio reaches farthest towards a target above every set: ranked by the sweep's
+// own points (sweep_grid.h) it is the true one, ranked by the fitted surfaces it is not.
+TEST(CalibrationSolver, TheSweepPointsRankTheDeformableElasticSetsAndGiveTheReach) {
+  const double compliance = 0.4;
+  kt_peak = std::log(1.6);
+  struct Reset {
+    ~Reset() { kt_peak = 0.0; }
+  } reset;
+  const SweepDesign design = DesignOf(true, compliance);
+  const MapSweep sweep = MapRockSweep(design);
   MicroRatios truth = Rigid(0.4, 10.0);
   truth.normal_stiffness_to_particle = 0.2, truth.particle_poisson_ratio = 0.45;
   TargetMaterial target = Twin(3e10, 8e3, truth);
@@ -563,19 +586,8 @@ TEST(CalibrationSolver, TheSweepPointsRankTheDeformableElasticSetsAndGiveTheReac
     }
   }
   auto start = [&](bool with_grid) {
-    CalibrationSurrogate surrogate(FitMaps(sweep, design, 2), d, d);
-    if (with_grid) surrogate.SetSweepGrid(SweepGrid(design, sweep.points));
-    for (const MicroRatios& r : TransferAnchorPoints(design)) {
-      SurrogateMeasurement m;
-      m.ratios = r;
-      m.youngs_per_stiffness = Rock::YoungsPerStiffness(r);
-      m.poisson_ratio = Rock::Poisson(r);
-      m.ucs_per_strength = Rock::UcsPerStrength(r);
-      m.tensile_per_strength = Rock::TensilePerStrength(r);
-      surrogate.AddMeasurement(m, /*stored=*/true);
-    }
     FakeModel model(5);
-    CalibrationSolver solver(surrogate, target, Options(compliance), &model);
+    CalibrationSolver solver(SweepSurrogate(sweep, design, with_grid), target, Options(compliance), &model);
     const CalibrationReach& reach = solver.AssessReach();
     return std::make_pair(reach.start.tangential_to_normal_stiffness, reach.strength_ratio_max);
   };

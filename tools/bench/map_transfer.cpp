@@ -97,7 +97,7 @@ int Run(const std::string& maps_path, const std::string& ucs_path, const std::st
     char line_out[512];
     std::snprintf(line_out, sizeof line_out, "%s,%.6g,%.6g,%.6g,%.6g,%.6g,%d\n", f[0].c_str(), measured,
                 surrogate.MapUcsPerStrength(r) / surrogate.MapTensilePerStrength(r), surrogate.StrengthRatio(r),
-                surrogate.GridStrengthRatio(r, /*corrected=*/false), surrogate.GridStrengthRatio(r), stored);
+                surrogate.MapGridStrengthRatio(r), surrogate.GridStrengthRatio(r), stored);
     table += line_out;
   }
   std::fputs(table.c_str(), stdout);
