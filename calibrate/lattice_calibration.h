@@ -7,10 +7,11 @@
 // from 30 degrees), are found by rounds of UCS and Brazilian tests on the real specimens:
 //   - start: c from the triangles' own Mohr-Coulomb UCS, 2 c cos(phi) / (1 - sin(phi)) = UCS,
 //     and sigma_t = the target's;
-//   - each round measures the UCS and the Brazilian sigma_t; each strength of the triangles is
-//     stepped by its own secant in logarithms (c for the UCS, sigma_t for the Brazilian; the
-//     slope 1 at first, then measured, clamped to [0.2, 1.5], the Brazilian's to [0.5, 1.5]),
-//     at most a factor 3 per step; rounds on both sides of the target Brazilian strength
+//   - each round measures the UCS and the Brazilian sigma_t; c is stepped by the UCS's
+//     specimen factor (UCS over the closed form, the mean of the last three rounds: the UCS
+//     has path noise), sigma_t by its secant in logarithms against the Brazilian strength (the
+//     slope 1 at first, then measured, clamped to [0.5, 1.5]), each at most a factor 3 per
+//     step; rounds at the same c (within 3 %) on both sides of the target Brazilian strength
 //     bracket the next sigma_t;
 //   - a Brazilian strength that stops following the triangles' sigma_t is capped by their
 //     shear limit. With a free friction angle it is lowered (at most twice, to 5 degrees at

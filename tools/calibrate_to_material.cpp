@@ -270,7 +270,9 @@ int RunLattice(const TargetMaterial& target, const CommandLine& cl) {
   auto scene = [&](const char* kind, const std::string& packing) {
     return "# run-test scene of calibrate-to-material --model lattice\n[specimen]\npacking = \"" +
            std::filesystem::path(packing).filename().string() + "\"\n\n" + summary.MaterialToml() +
-           "\n[test]\nkind = \"" + kind + "\"\n\n[output]\nname = \"" + cl.name + "_" + kind + "\"\n";
+           "\n[test]\nkind = \"" + kind + "\"\n" +
+           (cl.rate_group ? "loading_rate_group = " + Number(*cl.rate_group, 17) + "\n" : std::string()) +
+           "\n[output]\nname = \"" + cl.name + "_" + kind + "\"\n";
   };
   nlohmann::json report = summary.ToJson();
   report["command"] = "calibrate-to-material";

@@ -137,8 +137,8 @@ TEST(CalibrateToMaterialCommand, LatticeModelWritesItsParametersAndScenes) {
   const std::string material =
       Material("lattice", "youngs_modulus = 30e9\npoisson_ratio = 0.25\nucs = 90e6\ntensile_strength = 6e6\n"
                           "density = 2600\n").string();
-  const Result r = RunCalibrate(material + " --model lattice --count 500 --rounds 3 --output " + out.string() +
-                                " --name l");
+  const Result r = RunCalibrate(material + " --model lattice --count 500 --rounds 3 --rate-group 4e-5 --output " +
+                                out.string() + " --name l");
   ASSERT_TRUE(r.status == 0 || r.status == 4) << r.output;
   for (const char* file : {"l_report.txt", "l_report.json", "l_parameters.toml", "l_ucs.packing", "l_bts.packing",
                            "l_ucs_scene.toml", "l_bts_scene.toml"})
@@ -146,6 +146,10 @@ TEST(CalibrateToMaterialCommand, LatticeModelWritesItsParametersAndScenes) {
   std::ifstream in(out / "l_parameters.toml");
   const std::string parameters((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(parameters.find("model = \"lattice\""), std::string::npos) << parameters;
+  // The scenes repeat the rounds' rate: the group given.
+  std::ifstream bts_scene(out / "l_bts_scene.toml");
+  const std::string bts((std::istreambuf_iterator<char>(bts_scene)), std::istreambuf_iterator<char>());
+  EXPECT_NE(bts.find("loading_rate_group = 4"), std::string::npos) << bts;
   // The scenes run as they are.
   const Result scene = specimen::testing::RunProgram(
       "run-test", (out / "l_ucs_scene.toml").string() + " --output " + (out / "run").string() + " --no-pictures");

@@ -3,7 +3,7 @@
 specimens, measured by real tests; prints the table, writes CSV, JSON and a picture.
 
   tools/bench/reach_map.py [--build build] [--out bench-out/reach] [--packings UCS BTS]
-        [--models rigid,moment,ddem,lattice] [--markdown PATH] [--picture PATH] [--quick]
+        [--models rigid,moment,ddem,lattice] [--markdown PATH] [--picture PATH] [--quick] [--reuse JSON]
 
 The specimens: the calibrator's own 5,064-disc UCS square and 3,940-disc Brazilian disc
 (--packings, or bench-out/calibration/reference/ when the calibration bench made them, or
@@ -304,6 +304,9 @@ def main():
     parser.add_argument("--markdown", help="the page to write (default OUT/reach_map.md)")
     parser.add_argument("--picture", help="where to copy the picture (default: only OUT/reach_map.png)")
     parser.add_argument("--quick", action="store_true", help="the two ends of every grid axis: a smoke test")
+    parser.add_argument("--reuse", metavar="JSON",
+                        help="an earlier run's reach_map.json: the points of the models not in --models are "
+                             "taken from it (the page says which)")
     args = parser.parse_args()
     models = [m.strip() for m in args.models.split(",")]
     unknown = set(models) - set(MODELS)
@@ -328,6 +331,12 @@ def main():
 
     start = time.monotonic()
     rows = measure(build, packings, models, out, args.quick)
+    reused = []
+    if args.reuse:
+        with open(args.reuse) as f:
+            earlier = json.load(f)["points"]
+        reused = sorted({r["model"] for r in earlier} - set(models), key=list(MODELS).index)
+        rows = [r for r in earlier if r["model"] in reused] + rows
     table = regions(rows)
     rocks = published_rocks()
     for rock in rocks:
@@ -352,7 +361,9 @@ def main():
           "Reproduce: `python3 tools/bench/reach_map.py --markdown tools/bench/reach_map.md "
           "--picture docs/images/reach_map.png` (about %.0f minutes on 2 cores). Every point is the "
           "elastic run, the UCS and the Brazilian test of run-test on the 5,064-disc UCS square and the "
-          "3,940-disc Brazilian disc; the grids are in the script's header." % ((time.monotonic() - start) / 60), "",
+          "3,940-disc Brazilian disc; the grids are in the script's header." % ((time.monotonic() - start) / 60)
+          + ("" if not reused else " Measured here: %s; taken from an earlier run (`--reuse`): %s." % (
+              ", ".join(MODELS[m] for m in models), ", ".join(MODELS[m] for m in reused))), "",
           "![reach map](../../docs/images/reach_map.png)", "",
           "| model | nu (plane strain) | UCS / sigma_t at that nu: lowest - highest measured |", "|---|---|---|"]
     for model in MODELS:
