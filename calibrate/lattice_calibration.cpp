@@ -137,7 +137,7 @@ LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const L
   Eigen::Vector2d p(std::log(target.ucs_pa / MohrCoulombUcsPerCohesion(phi_deg)),
                     std::log(target.tensile_strength_pa));
   const Eigen::Vector2d goal(std::log(target.ucs_pa), std::log(target.tensile_strength_pa));
-  Eigen::Vector2d slopes(1.0, 1.0);  // d ln UCS / d ln c, d ln sigma_t(BTS) / d ln sigma_t
+  Eigen::Vector2d slopes(1.0, 1.0);  // d ln UCS / d ln c (not used for steps), d ln sigma_t(BTS) / d ln sigma_t
   Eigen::Vector2d previous_p = Eigen::Vector2d::Zero(), previous_m = Eigen::Vector2d::Zero();
   const double tau_c = std::log1p(options.tolerance_ucs), tau_t = std::log1p(options.tolerance_tensile);
   int first_round_at_phi = 1, lowerings = 0;

@@ -22,7 +22,7 @@
 //     target once there are some; a bracket that closes on a leap of the UCS ends the
 //     rounds, the UCS out of reach), and sigma_t is said out of reach and given up;
 //   - stop when UCS and sigma_t are within their tolerances; the result is the best round.
-// No maps: a round is two short tests of an elastic-brittle lattice.
+// No maps: a round is two tests of an elastic-brittle lattice.
 //
 //   LatticeCalibrationOptions options;
 //   LatticeCalibrationSummary s = CalibrateLattice(ucs_packing, bts_packing, target, options);
@@ -44,7 +44,7 @@ namespace specimen {
 struct LatticeCalibrationOptions {
   double tolerance_youngs = 0.015, tolerance_poisson = 0.015;  // the linear portion's check
   double tolerance_ucs = 0.02, tolerance_tensile = 0.05;
-  int max_rounds = 12;                // in [1, 20]; a round is two short tests
+  int max_rounds = 12;                // in [1, 20]; a round is two tests
   LabTestOptions test;                // rate, sampling (kind is set per test)
   LatticeProtocol protocol;
   ProgressCallback progress;          // may be empty

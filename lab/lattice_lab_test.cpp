@@ -199,6 +199,7 @@ LabTestResult RunLatticeTestAtRate(const Packing<2>& packing, const LatticeMater
   const double wave_share = ucs ? protocol.compression_wave_share : protocol.brazilian_wave_share;
   const double weaker = std::min(material.strength.tensile_strength_pa, material.strength.cohesion_pa);
   if (wave_share > 0.0) group = std::min(group, wave_share * weaker / d.d22);
+  // (A platen speed given is used as it is, uncapped.)
   const double speed =
       rate_factor * (options.platen_speed_m_per_s > 0.0 ? options.platen_speed_m_per_s : group * wave_speed);
   const double transit = height / wave_speed;
@@ -275,6 +276,7 @@ LabTestResult RunLatticeTestAtRate(const Packing<2>& packing, const LatticeMater
   double peak = 0.0;
   double previous_control = 0.0;  // of the last step
   bool rising = false;            // the control rose over the last step
+  double last_maximum_sampled = 0.0;  // the maximum whose falling step was last sampled
   int peak_index = -1;
 
   const EdgeMap edges = options.record_snapshots ? ParticleEdges(specimen) : EdgeMap{};
@@ -417,7 +419,9 @@ LabTestResult RunLatticeTestAtRate(const Packing<2>& packing, const LatticeMater
         ucs ? 0.5 * (force_top + force_bottom) / width - sigma_3 : 0.5 * (force_top + force_bottom);
     bool past_maximum = false;
     if (t > ramp + consolidation) {
-      past_maximum = control_now < previous_control && rising && previous_control > (1.0 + kPeakResolution) * peak;
+      past_maximum = control_now < previous_control && rising &&
+                     previous_control > (1.0 + kPeakResolution) * std::max(peak, last_maximum_sampled);
+      if (past_maximum) last_maximum_sampled = previous_control;
       rising = control_now > previous_control;
     }
     previous_control = control_now;

@@ -69,7 +69,8 @@ struct LatticeProtocol {
   // breaks triangles by itself and the strengths depend on the rate (docs/sources.md, "The
   // lattice in the laboratory": at the bonded tests' group 5e-5 a UCS of a brittle rock came
   // out at 29 % of its quasi-static value). The group used is therefore at most this share
-  // of min(sigma_t, c) / d22, in [0, 1]; 0 leaves the group as given. The Brazilian strength
+  // of min(sigma_t, c) / d22, in [0, 1]; 0 leaves the group as given (a platen_speed given is
+  // never capped). The Brazilian strength
   // follows the rate more closely (it peaks a few wave transits after the first failure) and
   // gets the smaller share; both keep the strength within about 1 % of its half-rate value.
   double compression_wave_share = 0.25;  // UCS and biaxial

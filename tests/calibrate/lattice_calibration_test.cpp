@@ -98,7 +98,7 @@ TEST(LatticeCalibration, AFreeFrictionAngleIsLoweredWhenTheShearLimitCapsSigmaT)
 }
 
 // A target whose UCS / sigma_t lies far above what the tension cut-off lets the UCS reach (the
-// twin's UCS tripled): once c rises without moving the UCS, the UCS is reached through the
+// twin's UCS tenfold): once c rises without moving the UCS, the UCS is reached through the
 // triangles' sigma_t, sigma_t is given up and said so, and the UCS is met.
 TEST(LatticeCalibration, AUcsCappedByTheTensionCutOffIsReachedThroughSigmaT) {
   IsotropicTwin twin;

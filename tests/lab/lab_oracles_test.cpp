@@ -224,6 +224,20 @@ TEST_F(LabIrregularPacking, InertiaScalingKeepsTheElasticResponse) {
   compare("DDEM", deformable);
 }
 
+// The quasi-static check repeats the test at half the rate: an elastic UCS is rate-free, so E
+// changes by far less than the tolerance, and the report gives the half rate's group.
+TEST_F(LabIrregularPacking, TheQuasiStaticCheckRunsAtHalfTheRate) {
+  LabTestOptions options;
+  options.strain_limit = 1e-3;
+  options.strain_boundary_margin = kMargin;
+  options.check_quasi_static = true;
+  const LabTestResult r = RunLabTest<2>(*packing_, Unbreakable(1e10, 0.25e10), options);
+  ASSERT_TRUE(r.quasi_static.performed);
+  EXPECT_DOUBLE_EQ(r.quasi_static.half_rate_group, 0.5 * r.loading_rate_group);
+  EXPECT_LT(r.quasi_static.modulus_change, 0.002);
+  EXPECT_TRUE(r.quasi_static.passed);
+}
+
 // The linear portion of a test to failure (LabTestResult::linear_elastic) ends before the
 // first broken bond, and gives what the same specimen gives intact: E and nu depend on the
 // stiffnesses only, not on the strengths (what separates a calibration's elastic and

@@ -107,9 +107,9 @@ TEST(LatticeLab, BrazilianSplitsInTension) {
 // the platens' wave stress d22 g exceeds sigma_t and the wave breaks triangles by itself: the
 // Brazilian strength comes out a third above its quasi-static value (on the default 5,064-disc
 // square the UCS fell to 29 % of the closed form; on this small one by 2.7 %). With the
-// protocol's cap on the rate the UCS is the triangles' Mohr-Coulomb strength within 1 %, four
-// times closer than uncapped, and the Brazilian strength changes by less than 1 % at half the
-// rate.
+// protocol's cap on the rate the UCS is the triangles' Mohr-Coulomb strength within 1 %, at
+// least twice as close as uncapped (measured: 0.7 % against 2.7 %), and the Brazilian strength
+// changes by less than 1 % at half the rate.
 TEST(LatticeLab, TheRateIsCappedSoThatTheStrengthsAreQuasiStatic) {
   LatticeMaterial m = Material(0.25);
   m.strength = {1.5e6, 25e6, 30.0};
@@ -132,6 +132,7 @@ TEST(LatticeLab, TheRateIsCappedSoThatTheStrengthsAreQuasiStatic) {
   const LabTestResult bts = RunLatticeLabTest(Disc(), m, options);
   ASSERT_TRUE(bts.peak_reached) << bts.termination_message;
   ASSERT_TRUE(bts.quasi_static.performed);
+  EXPECT_DOUBLE_EQ(bts.quasi_static.half_rate_group, 0.5 * bts.loading_rate_group);
   EXPECT_TRUE(bts.quasi_static.passed) << "peak change " << bts.quasi_static.peak_change;
   options.check_quasi_static = false;
   const LabTestResult bts_fast = RunLatticeLabTest(Disc(), m, options, uncapped);
