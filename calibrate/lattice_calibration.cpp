@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <future>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -46,10 +45,7 @@ constexpr int kMaxFrictionLowerings = 2;
 constexpr double kLowestFrictionAngle = 5.0;  // degrees
 
 // The UCS of the triangles' Mohr-Coulomb limit per unit cohesion, 2 cos(phi) / (1 - sin(phi)).
-double MohrCoulombUcsPerCohesion(double phi_deg) {
-  const double phi = phi_deg * kPi / 180.0;
-  return 2.0 * std::cos(phi) / (1.0 - std::sin(phi));
-}
+double MohrCoulombUcsPerCohesion(double phi_deg) { return LatticeStrength{1.0, 1.0, phi_deg}.TriangleCompressiveStrength(); }
 
 // The friction angle at which the shear limit lets the Brazilian strength reach the target's.
 // At the centre of a Brazilian disc sigma_1 = -3 sigma_B, sigma_3 = sigma_B, and the
@@ -74,32 +70,7 @@ LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<
                                            const LatticeCalibrationOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError(error);
-  if (ucs.domain.shape() != DomainShape::kRectangle)
-    throw InputError("the lattice UCS specimen must be a rectangle, not a " + ucs.domain.ShapeName());
-  if (bts.domain.shape() != DomainShape::kDisc)
-    throw InputError("the lattice Brazilian specimen must be a disc, not a " + bts.domain.ShapeName());
-  // A round: the two tests at once; a test without a peak fails the calibration.
-  auto run_round = [&](const LatticeMaterial& material, int round) {
-    LabTestOptions ucs_test = options.test, bts_test = options.test;
-    ucs_test.kind = LabTestKind::kUniaxialCompression;
-    bts_test.kind = LabTestKind::kBrazilian;
-    ucs_test.progress = bts_test.progress = nullptr;
-    auto bts_run = std::async(std::launch::async,
-                              [&]() { return RunLatticeLabTest(bts, material, bts_test, options.protocol); });
-    const LabTestResult u = RunLatticeLabTest(ucs, material, ucs_test, options.protocol);
-    const LabTestResult b = bts_run.get();
-    if (!u.peak_reached || !b.peak_reached)
-      throw ComputationError(std::string("lattice round ") + std::to_string(round) + ": the " +
-                             (!u.peak_reached ? "UCS" : "Brazilian") + " test " +
-                             (!u.peak_reached ? u.termination_message : b.termination_message));
-    LatticeRoundMeasurement m;
-    m.ucs_pa = u.peak_stress_pa;
-    m.bts_pa = b.tensile_strength_pa;
-    m.youngs_modulus_pa = u.linear_elastic.youngs_modulus_pa;
-    m.poisson_ratio = u.linear_elastic.poisson_ratio;
-    m.critical_time_step_s = u.critical_time_step_s;
-    return m;
-  };
+  const LatticeRoundModel run_round = LatticeTestsOn(ucs, bts, options.test, options.protocol);
   LatticeCalibrationSummary summary = CalibrateLattice(target, options, run_round);
   summary.ucs_particles = ucs.size();
   summary.bts_particles = bts.size();
@@ -148,7 +119,41 @@ LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const L
   };
   std::vector<LogPoint> on_tension;  // the rounds stepped by sigma_t (c kept)
   std::vector<LogPoint> brazilian;   // this friction angle's rounds: sigma_t -> the Brazilian strength
-  std::vector<double> ucs_offsets;   // this friction angle's rounds: ln UCS - ln c
+  std::vector<double> ucs_offsets;   // this friction angle's rounds: ln UCS - ln c (- the map's ln UCS / c)
+  // The map's start, where it covers the target; its ln(UCS / c) at (ln c, ln sigma_t) at the
+  // present angle (0 without a map: the offsets are then ln UCS - ln c).
+  const LatticeStrengthMap* map = nullptr;
+  if (options.map) {
+    std::string why;
+    const std::vector<double>& angles = options.map->design.friction_angles_deg;
+    if (target.orthotropic)
+      summary.notes.push_back("the strength map holds isotropic rows; this orthotropic target starts from the closed form");
+    else if (!options.map->Covers(target.poisson_ratio, &why))
+      summary.notes.push_back("the strength map has " + why + "; the rounds start from the closed form");
+    else if (target.friction_angle_deg &&
+             (*target.friction_angle_deg < angles.front() || *target.friction_angle_deg > angles.back()))
+      summary.notes.push_back("the strength map's friction angles are " + Number(angles.front()) + "-" +
+                              Number(angles.back()) + " degrees, the target's " + Number(*target.friction_angle_deg) +
+                              "; the rounds start from the closed form");
+    else
+      map = &*options.map;
+  }
+  auto map_log_ucs = [&](double log_c, double log_sigma_t) {
+    return map ? std::log(map->At(target.poisson_ratio, phi_deg, std::exp(log_sigma_t - log_c)).ucs_over_cohesion)
+               : 0.0;
+  };
+  if (map) {
+    const LatticeMapStart start = StartFromMap(*map, target);
+    summary.map_used = true;
+    summary.map_reachable = start.reachable;
+    summary.map_ratio_low = start.ratio_low;
+    summary.map_ratio_high = start.ratio_high;
+    summary.notes.push_back("before round 1: " + start.statement);
+    phi_deg = start.friction_angle_deg;
+    p = Eigen::Vector2d(std::log(start.cohesion_pa), std::log(start.tensile_strength_pa));
+    slopes[1] = std::clamp(start.tensile_slope, 0.5, 1.5);
+    if (!start.reachable) summary.tensile_capped = true;  // the UCS alone is judged
+  }
   // The nearest rounds on both sides of `goal` (the one below at the largest sigma_t, the one
   // above at the smallest), when they bracket it in sigma_t.
   struct Bracket {
@@ -252,7 +257,7 @@ LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const L
       ucs_offsets.clear();
     }
     brazilian.push_back({p[1], m[1], p[0]});
-    ucs_offsets.push_back(m[0] - p[0]);
+    ucs_offsets.push_back(m[0] - p[0] - map_log_ucs(p[0], p[1]));
     if (ucs_capped_now) {
       // The UCS is then reached through the triangles' sigma_t (slope 1: on the cut-off both
       // strengths scale with it), c kept where it is; the Brazilian strength follows sigma_t
@@ -353,11 +358,15 @@ LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const L
     // so the factor is the mean of this angle's last three rounds (in logarithms) and c the
     // one that gives the target with it; a secant through two noisy rounds stepped c 10 %
     // past it. sigma_t: its secant.
+    // With a map the factor is the UCS over the map's, and c is solved with the map's UCS / c
+    // at the next sigma_t / c (the UCS moves with sigma_t / c where the tension cut-off
+    // shares in the failure).
+    const double round_log_c = p[0];
+    double offset = 0.0;
     {
       const size_t n = std::min<size_t>(3, ucs_offsets.size());
-      double offset = 0.0;
       for (size_t i = ucs_offsets.size() - n; i < ucs_offsets.size(); ++i) offset += ucs_offsets[i] / n;
-      p[0] += std::clamp(goal[0] - offset - p[0], -std::log(3.0), std::log(3.0));
+      p[0] += std::clamp(goal[0] - offset - map_log_ucs(p[0], p[1]) - p[0], -std::log(3.0), std::log(3.0));
     }
     if (!summary.tensile_capped)
       p[1] += std::clamp((goal[1] - m[1]) / slopes[1], -std::log(3.0), std::log(3.0));
@@ -370,6 +379,10 @@ LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const L
         if (std::abs(q.log_c - p[0]) < std::log(1.03)) at_c.push_back(q);
       if (const Bracket b = bracket_of(at_c, goal[1])) p[1] = inside(b, goal[1]);
     }
+    if (map)
+      for (int iteration = 0; iteration < 4; ++iteration)
+        p[0] = round_log_c + std::clamp(goal[0] - offset - map_log_ucs(p[0], p[1]) - round_log_c, -std::log(3.0),
+                                        std::log(3.0));
   }
   summary.friction_angle_deg = summary.material.strength.friction_angle_deg;
   const LatticeCalibrationRound& best = summary.rounds[summary.best_round - 1];
@@ -422,7 +435,10 @@ std::string LatticeCalibrationSummary::FullReport() const {
   out << "  specimens: UCS " << ucs_particles << " particles, Brazilian " << bts_particles << "\n"
       << "  E and nu are the lattice's inputs; the rounds fit the triangles' cohesion and tensile strength"
       << " (friction angle of the result " << friction_angle_deg << " degrees, "
-      << (target.friction_angle_deg ? "the target's" : "free: 30 unless the shear limit caps sigma_t") << ")\n";
+      << (target.friction_angle_deg ? "the target's"
+                                    : map_used ? "free: the map's start, lowered if the shear limit caps sigma_t"
+                                               : "free: 30 unless the shear limit caps sigma_t")
+      << ")\n";
   for (const LatticeCalibrationRound& r : rounds) {
     std::snprintf(line, sizeof line,
                   "  round %d%s: c %.4g MPa, sigma_t %.4g MPa, phi %.3g: UCS %.4g MPa (%+.2f %%), sigma_t %.4g MPa "
@@ -459,6 +475,9 @@ nlohmann::json LatticeCalibrationSummary::ToJson() const {
   j["converged"] = converged;
   j["given_up"] = tensile_capped ? nlohmann::json::array({"sigma_t"}) : nlohmann::json::array();
   j["notes"] = notes;
+  j["map"] = {{"used", map_used}};
+  if (map_used)
+    j["map"].update({{"reachable", map_reachable}, {"ratio_low", map_ratio_low}, {"ratio_high", map_ratio_high}});
   j["best_round"] = best_round;
   j["critical_time_step_s"] = critical_time_step_s;
   j["wall_time_s"] = wall_seconds;

@@ -5,11 +5,15 @@
 // linear portion of each round's UCS confirms it). The two strengths of the triangles, the
 // cohesion c and the tensile strength sigma_t (phi: the target's friction angle, else free,
 // from 30 degrees), are found by rounds of UCS and Brazilian tests on the real specimens:
-//   - start: c from the triangles' own Mohr-Coulomb UCS, 2 c cos(phi) / (1 - sin(phi)) = UCS,
-//     and sigma_t = the target's;
+//   - start: from the strength map when there is one for these specimens (options.map: the
+//     (phi, sigma_t / c) whose UCS / sigma_t is the target's, c from its UCS / c; a target
+//     out of its reach is said so before round 1, sigma_t given up); else c from the
+//     triangles' own Mohr-Coulomb UCS, 2 c cos(phi) / (1 - sin(phi)) = UCS, and sigma_t = the
+//     target's;
 //   - each round measures the UCS and the Brazilian sigma_t; c is stepped by the UCS's
 //     specimen factor (UCS over the closed form, the mean of the last three rounds: the UCS
-//     has path noise), sigma_t by its secant in logarithms against the Brazilian strength (the
+//     has path noise; with a map, UCS over the map's, so that a change of sigma_t / c is
+//     foreseen), sigma_t by its secant in logarithms against the Brazilian strength (the
 //     slope 1 at first, then measured, clamped to [0.5, 1.5]), each at most a factor 3 per
 //     step; rounds at the same c (within 3 %) on both sides of the target Brazilian strength
 //     bracket the next sigma_t;
@@ -22,13 +26,13 @@
 //     target once there are some; a bracket that closes on a leap of the UCS ends the
 //     rounds, the UCS out of reach), and sigma_t is said out of reach and given up;
 //   - stop when UCS and sigma_t are within their tolerances; the result is the best round.
-// No maps: a round is two tests of an elastic-brittle lattice.
 //
 //   LatticeCalibrationOptions options;
 //   LatticeCalibrationSummary s = CalibrateLattice(ucs_packing, bts_packing, target, options);
 //   std::cout << s.FullReport();
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +41,7 @@
 #include "calibrate/target_material.h"
 #include "common/progress.h"
 #include "generator/packing.h"
+#include "calibrate/lattice_strength_map.h"
 #include "lab/lattice_lab_test.h"
 
 namespace specimen {
@@ -48,6 +53,12 @@ struct LatticeCalibrationOptions {
   LabTestOptions test;                // rate, sampling (kind is set per test)
   LatticeProtocol protocol;
   ProgressCallback progress;          // may be empty
+  // The strength map of these specimens and tests (calibrate/lattice_strength_map.h), if
+  // any: where it covers the target's nu (isotropic targets) it says before round 1 whether
+  // UCS / sigma_t is within reach, gives the start (phi when free, c, sigma_t), and the c
+  // steps follow its UCS / c between rounds at different sigma_t / c. Without it the rounds
+  // start from the closed form.
+  std::optional<LatticeStrengthMap> map;
 
   bool IsValid(std::string* error) const;
 };
@@ -74,6 +85,11 @@ struct LatticeCalibrationSummary {
   // shear limit caps it at this friction angle), or the UCS stopped following c (the tension
   // cut-off caps it, and the UCS is reached through sigma_t).
   bool tensile_capped = false;
+  // The map's reading before round 1 (map_used): the interval of UCS / sigma_t the lattice
+  // reaches at the target's nu, and whether the target's lies in it.
+  bool map_used = false;
+  bool map_reachable = true;
+  double map_ratio_low = 0.0, map_ratio_high = 0.0;
   std::vector<std::string> notes;
   int ucs_particles = 0, bts_particles = 0;
   double critical_time_step_s = 0.0;  // of the UCS test
@@ -90,17 +106,6 @@ struct LatticeCalibrationSummary {
 // ComputationError when a test reaches no peak.
 LatticeCalibrationSummary CalibrateLattice(const Packing<2>& ucs, const Packing<2>& bts, const TargetMaterial& target,
                                            const LatticeCalibrationOptions& options);
-
-// What a round measures at the triangles' strengths: the UCS (and its linear portion's E and
-// nu) and the Brazilian strength.
-struct LatticeRoundMeasurement {
-  double ucs_pa = 0.0, bts_pa = 0.0;
-  double youngs_modulus_pa = 0.0, poisson_ratio = 0.0;
-  double critical_time_step_s = 0.0;  // of the UCS test
-};
-// The round's tests at `material` (round: 1-based, for messages); throws ComputationError
-// when a test fails.
-using LatticeRoundModel = std::function<LatticeRoundMeasurement(const LatticeMaterial& material, int round)>;
 
 // The same rounds on any model of the two tests (the one above runs the lattice on the two
 // specimens; the tests use a cheap closed form with a cap and a leap, to check the steps in

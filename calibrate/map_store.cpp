@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -17,14 +18,25 @@ namespace {
 
 constexpr const char* kFormat = "specimen-maps 1";
 
-// FNV-1a, 64 bit: a stable file-name key (not a security hash).
+// `value` rounded to `digits` significant digits.
 double SignificantDigits(double value, int digits) {
   char text[32];
   std::snprintf(text, sizeof text, "%.*g", digits, value);
   return std::strtod(text, nullptr);
 }
 
-std::string Hash(const std::string& text) {
+}  // namespace
+
+std::string UtcNow() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char text[32];
+  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return text;
+}
+
+std::string MapIdentityHash(const std::string& text) {
   std::uint64_t h = 1469598103934665603ULL;
   for (unsigned char c : text) {
     h ^= c;
@@ -34,8 +46,6 @@ std::string Hash(const std::string& text) {
   std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(h));
   return hex;
 }
-
-}  // namespace
 
 nlohmann::json VerifiedPoint::ToJson() const {
   return {{"ratios", SweepPointRatiosToJson(ratios)},
@@ -156,7 +166,7 @@ std::string MapKey(int dimension, bool deformable, const SweepDesign& design, co
                              {"deformable", deformable}, {"design", rounded.ToJson()},
                              {"protocol", protocol},     {"specimen", specimen},
                              {"degree", max_total_degree}};
-  return Hash(identity.dump());
+  return MapIdentityHash(identity.dump());
 }
 
 std::string MapFileName(int dimension, bool deformable, const std::string& key) {

@@ -65,6 +65,12 @@ struct StoredMaps {
   static StoredMaps FromJson(const nlohmann::json& j);
 };
 
+// The time now, UTC, ISO 8601 (when a map was built).
+std::string UtcNow();
+
+// FNV-1a, 64 bit, as 16 hex digits: a stable file-name key (not a security hash).
+std::string MapIdentityHash(const std::string& text);
+
 // The key of a map: a hex hash of the canonical JSON of its identity.
 std::string MapKey(int dimension, bool deformable, const SweepDesign& design,
                    const nlohmann::json& protocol, const nlohmann::json& specimen, int max_total_degree);

@@ -21,6 +21,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -31,12 +32,14 @@
 #include "calibrate/calibration.h"
 #include "calibrate/calibration_outputs.h"
 #include "calibrate/lattice_calibration.h"
+#include "calibrate/lattice_strength_map.h"
 #include "calibrate/map_store.h"
 #include "calibrate/target_material.h"
 #include "common/atomic_file.h"
 #include "common/format.h"
 #include "common/progress.h"
 #include "common/ranks.h"
+#include "generator/metrics.h"
 #include "generator/packing_io.h"
 #include "lab/lab_specimen.h"
 #include "specimen_version.h"
@@ -65,6 +68,7 @@ struct CommandLine {
   double friction = 0.8;
   double bond_range = 1.0;
   std::optional<double> rate_group;
+  std::string lattice_map = "target";
   std::optional<int> sweep_levels;
   std::string honour = "compressive";
   std::string output = "out/calibration";
@@ -222,8 +226,65 @@ int Run(const TargetMaterial& target, CalibrationOptions options, const CommandL
   return kExitOk;
 }
 
+// The lattice's strength map for these specimens and tests (calibrate/lattice_strength_map.h):
+// --maps FILE as given (it must match them), else the one stored in the maps directory; the
+// rows the target's nu needs (--lattice-map all: every row) are measured and stored when
+// missing, or with --no-reuse. None with --lattice-map none, or for an orthotropic target.
+// `report` gets one line saying which map and what was built.
+std::optional<LatticeStrengthMap> LatticeMapFor(const Packing<2>& ucs, const Packing<2>& bts,
+                                                const TargetMaterial& target, const LatticeCalibrationOptions& options,
+                                                const CommandLine& cl, std::string* report) {
+  if (cl.lattice_map == "none" || target.orthotropic) {
+    *report = std::string("strength map: none (") + (target.orthotropic ? "an orthotropic target" : "--lattice-map none") +
+              "): the rounds start from the closed form\n";
+    return std::nullopt;
+  }
+  const PackingDescriptors ucs_d = DescribePacking<2>(ComputePackingMetrics<2>(ucs));
+  const PackingDescriptors bts_d = DescribePacking<2>(ComputePackingMetrics<2>(bts));
+  const nlohmann::json protocol = LatticeMapProtocol(options.test, options.protocol);
+  const std::string directory = cl.maps_directory.value_or(DefaultMapsDirectory());
+  std::string path = cl.maps_file;
+  if (path.empty()) path = FindLatticeStrengthMap(directory, ucs_d, bts_d, protocol);
+  LatticeStrengthMap map;
+  if (!path.empty()) {
+    map = LoadLatticeStrengthMap(path);
+    std::string why;
+    if (!cl.maps_file.empty() &&
+        (!MapsMatchPacking(map.ucs_descriptors, ucs_d, &why) || !MapsMatchPacking(map.bts_descriptors, bts_d, &why) ||
+         map.protocol != protocol))
+      throw InputError("--maps " + path + ": built for other specimens or tests (" +
+                       (why.empty() ? std::string("the test protocol differs") : why) + ")");
+  } else {
+    map.ucs_descriptors = ucs_d;
+    map.bts_descriptors = bts_d;
+    map.protocol = protocol;
+    path = (std::filesystem::path(directory) / LatticeMapFileName(ucs_d, bts_d, protocol)).string();
+  }
+  // The rows of the default grid that are wanted and not present (all of them with --no-reuse).
+  const LatticeMapDesign grid;
+  std::vector<double> rows;
+  const std::vector<double> present = map.Rows();
+  const std::vector<double> wanted =
+      cl.lattice_map == "all" ? grid.poisson_ratios : grid.RowsFor(target.poisson_ratio);
+  for (double nu : wanted)
+    if (cl.no_reuse || std::find(present.begin(), present.end(), nu) == present.end()) rows.push_back(nu);
+  if (!rows.empty()) {
+    std::string text;
+    for (double nu : rows) text += (text.empty() ? "" : ", ") + Number(nu);
+    const double before = map.build_seconds;
+    MeasureLatticeMapRows(rows, LatticeTestsOn(ucs, bts, options.test, options.protocol), options.progress, &map);
+    std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+    SaveLatticeStrengthMap(map, path);
+    *report = "strength map: " + path + ", rows nu " + text + " measured now (" +
+              Number(map.build_seconds - before, 3) + " s)\n";
+  } else {
+    *report = "strength map: " + path + " (built by " + map.code_version + ", " + map.created_utc + ")\n";
+  }
+  return map;
+}
+
 // --model lattice: the six-spring lattice (calibrate/lattice_calibration.h): E and nu are its
-// inputs, the rounds fit the triangles' cohesion and tensile strength; no maps.
+// inputs, the rounds fit the triangles' cohesion and tensile strength from the map's start.
 int RunLattice(const TargetMaterial& target, const CommandLine& cl) {
   CalibrationOutputOptions output;
   output.directory = cl.output;
@@ -238,8 +299,11 @@ int RunLattice(const TargetMaterial& target, const CommandLine& cl) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError(InUserTerms(error, {{"max_rounds", "--rounds"},
                                                                     {"loading_rate_group", "--rate-group"}}));
+  if (cl.lattice_map != "target" && cl.lattice_map != "all" && cl.lattice_map != "none")
+    throw InputError("--lattice-map = '" + cl.lattice_map + "', allowed target, all or none");
+  if (!cl.maps_file.empty()) LoadLatticeStrengthMap(cl.maps_file);  // not a lattice map: fails now
   Packing<2> ucs(Domain<2>::Rectangle(0, 0, 1, 1)), bts(Domain<2>::Rectangle(0, 0, 1, 1));
-  std::string description;
+  std::string description, map_report;
   if (!cl.packing.empty()) {
     if (cl.bts_packing.empty()) throw InputError("--packing needs --bts-packing (the Brazilian disc) as well");
     ucs = LoadPacking<2>(cl.packing);
@@ -262,6 +326,7 @@ int RunLattice(const TargetMaterial& target, const CommandLine& cl) {
     bts = made.bts;
     description = made.description;
   }
+  options.map = LatticeMapFor(ucs, bts, target, options, cl, &map_report);
   const LatticeCalibrationSummary summary = CalibrateLattice(ucs, bts, target, options);
   progress.Finish();
 
@@ -289,7 +354,7 @@ int RunLattice(const TargetMaterial& target, const CommandLine& cl) {
   group.Add(base + "_ucs_scene.toml", [&](std::ostream& out) { out << scene("ucs", base + "_ucs.packing"); });
   group.Add(base + "_bts_scene.toml", [&](std::ostream& out) { out << scene("brazilian", base + "_bts.packing"); });
   const std::vector<std::string> files = group.Commit();
-  std::cout << "specimens: " << description << "\n\n" << summary.FullReport() << "\n" << summary.BriefReport()
+  std::cout << "specimens: " << description << "\n" << map_report << "\n" << summary.FullReport() << "\n" << summary.BriefReport()
             << "\nfiles:\n";
   for (const auto& file : files) std::cout << "  " << file << "\n";
   if (summary.tensile_capped) {
@@ -333,6 +398,9 @@ int main(int argc, char** argv) {
                  "of the source tree: the shipped maps)");
   app.add_option("--maps", cl.maps_file, "use this map file (must have been built for an equivalent packing)");
   app.add_flag("--no-reuse", cl.no_reuse, "build the maps again even if stored ones match");
+  app.add_option("--lattice-map", cl.lattice_map,
+                 "--model lattice: the strength map rows measured when missing: target (the target's nu), all "
+                 "(every row), none (no map: start from the closed form), default target");
   app.add_option("--threads,--workers", cl.threads,
                  "sweep points (and elastic runs) at once on each rank, default: hardware threads");
   app.add_option("--rounds", cl.rounds, "strength rounds (UCS + BTS) at most, 1 to 20, default 6 (lattice: 12)");
@@ -367,16 +435,17 @@ int main(int argc, char** argv) {
     if (cl.model == "lattice" || (target.orthotropic && cl.model == "auto")) {
       if (cl.dimension != 2) throw InputError("--model lattice: the six-spring lattice is 2D (--dimension 2)");
       // Settings of the bonded calibration that the lattice has no use for: refused, not ignored.
-      for (const char* option : {"--maps", "--maps-dir", "--no-reuse", "--threads", "--sweep-fraction",
+      for (const char* option : {"--threads", "--sweep-fraction",
                                  "--sweep-levels", "--nu-p", "--friction", "--bond-range", "--max-spectral-radius",
                                  "--honour"})
         if (app.count(option) > 0)
-          throw InputError(std::string(option) + " is a setting of the bonded calibration; --model lattice has no maps");
+          throw InputError(std::string(option) + " is a setting of the bonded calibration, not of --model lattice");
       if (Distributed())
         throw InputError("--model lattice runs in one process (its rounds are one test pair each): start it "
                          "without mpirun");
       return RunLattice(target, cl);
     }
+    if (app.count("--lattice-map") > 0) throw InputError("--lattice-map is a setting of --model lattice");
     CalibrationOptions options;
     if (!ParseCalibrationModel(cl.model, &options.model))
       throw InputError("--model = '" + cl.model + "', allowed rigid, ddem, auto or lattice");

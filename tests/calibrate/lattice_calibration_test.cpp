@@ -1,7 +1,8 @@
 // The lattice calibration (calibrate/lattice_calibration.h) on a twin target: the UCS and
 // Brazilian tests of the lattice at hidden triangle strengths make the target; the
 // calibration, given only E, nu, UCS and sigma_t, meets them within the tolerances and finds
-// the hidden strengths back. Bad input is refused.
+// the hidden strengths back, in fewer rounds from a strength map of the specimens. Bad input
+// is refused.
 
 #include "calibrate/lattice_calibration.h"
 
@@ -68,6 +69,32 @@ TEST(LatticeCalibration, FindsTheHiddenStrengthsOfATwin) {
   // The reports: the parameters as a scene's [material] table, the JSON rounds.
   EXPECT_NE(s.MaterialToml().find("model = \"lattice\""), std::string::npos);
   EXPECT_EQ(s.ToJson()["rounds"].size(), s.rounds.size());
+}
+
+// The same twin from a strength map of the two specimens (one row at the twin's nu, its
+// friction angle, four s = sigma_t / c around the hidden 0.32, measured at the map's strain
+// scale c / E = 1e-3 where the twin's is 6.3e-4): the map puts the twin's ratio within reach
+// and its start leaves the rounds little to do.
+TEST(LatticeCalibration, AStrengthMapOfTheSpecimensStartsATwinWithinTwoRounds) {
+  IsotropicTwin twin;
+  ASSERT_TRUE(twin.Make({7e6, 22e6, 30.0}, "lattice twin"));
+  twin.target.friction_angle_deg = 30.0;
+  LatticeCalibrationOptions options;
+  LatticeStrengthMap map;
+  map.design.poisson_ratios = {0.3};
+  map.design.friction_angles_deg = {30.0};
+  map.design.tensile_over_cohesion = {0.1, 0.25, 0.5, 1.0};
+  MeasureLatticeMapRows({0.3}, LatticeTestsOn(twin.ucs, twin.bts, options.test, options.protocol), nullptr, &map);
+  options.map = map;
+  const LatticeCalibrationSummary s = CalibrateLattice(twin.ucs, twin.bts, twin.target, options);
+  SCOPED_TRACE(s.FullReport());
+  EXPECT_TRUE(s.map_used);
+  EXPECT_TRUE(s.map_reachable);
+  EXPECT_TRUE(s.converged);
+  EXPECT_LE(s.rounds.size(), 2u);
+  EXPECT_NEAR(s.material.strength.cohesion_pa / 22e6, 1.0, 0.05);
+  EXPECT_NEAR(s.material.strength.tensile_strength_pa / 7e6, 1.0, 0.1);
+  EXPECT_EQ(s.ToJson()["map"]["used"], true);
 }
 
 // A twin whose triangles have a friction angle of 10 degrees: its UCS / sigma_t lies below what

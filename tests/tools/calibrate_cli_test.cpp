@@ -130,16 +130,28 @@ TEST(CalibrateToMaterialCommand, UnreachableTargetExitsWithFourAndSaysWhatWasGiv
 
 namespace {
 
-// --model lattice: no maps; the files of the calibration; bonded-only settings refused.
+// --model lattice: the files of the calibration; the strength map's row measured into the
+// maps folder and reused by the next run; bonded-only settings refused.
 TEST(CalibrateToMaterialCommand, LatticeModelWritesItsParametersAndScenes) {
   const fs::path out = fs::temp_directory_path() / ("specimen_cal_cli_lattice_" + std::to_string(getpid()));
   fs::remove_all(out);
   const std::string material =
       Material("lattice", "youngs_modulus = 30e9\npoisson_ratio = 0.25\nucs = 90e6\ntensile_strength = 6e6\n"
                           "density = 2600\n").string();
+  const fs::path maps = out / "maps";
   const Result r = RunCalibrate(material + " --model lattice --count 500 --rounds 3 --rate-group 4e-5 --output " +
-                                out.string() + " --name l");
+                                out.string() + " --name l --maps-dir " + maps.string());
   ASSERT_TRUE(r.status == 0 || r.status == 4) << r.output;
+  EXPECT_NE(r.output.find("rows nu 0.25 measured now"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("before round 1"), std::string::npos) << r.output;
+  int map_files = 0;
+  for (const auto& e : fs::directory_iterator(maps))
+    map_files += e.path().filename().string().rfind("maps_2d_lattice_", 0) == 0;
+  EXPECT_EQ(map_files, 1);
+  const Result again = RunCalibrate(material + " --model lattice --count 500 --rounds 1 --rate-group 4e-5 --output " +
+                                    (out / "again").string() + " --maps-dir " + maps.string());
+  EXPECT_TRUE(again.status == 0 || again.status == 4) << again.output;
+  EXPECT_NE(again.output.find("(built by"), std::string::npos) << again.output;
   for (const char* file : {"l_report.txt", "l_report.json", "l_parameters.toml", "l_ucs.packing", "l_bts.packing",
                            "l_ucs_scene.toml", "l_bts_scene.toml"})
     EXPECT_TRUE(fs::exists(out / file)) << file << "\n" << r.output;
@@ -155,7 +167,7 @@ TEST(CalibrateToMaterialCommand, LatticeModelWritesItsParametersAndScenes) {
       "run-test", (out / "l_ucs_scene.toml").string() + " --output " + (out / "run").string() + " --no-pictures");
   EXPECT_TRUE(scene.status == 0) << scene.output;
   fs::remove_all(out);
-  for (const char* bonded : {" --maps-dir /tmp/x", " --nu-p 0.3", " --dimension 3"}) {
+  for (const char* bonded : {" --threads 2", " --nu-p 0.3", " --dimension 3", " --lattice-map some"}) {
     SCOPED_TRACE(bonded);
     const fs::path bad = fs::temp_directory_path() / "specimen_cal_cli_lattice_bad";
     fs::remove_all(bad);
