@@ -61,7 +61,7 @@ double LowerFrictionAngle(double phi_deg, double measured_cap_ratio, double targ
   const double wanted = (3.0 + n) * (target_ratio / 1.15) / measured_cap_ratio - 3.0;
   double lowered = kLowestFrictionAngle;
   if (wanted > 1.0) lowered = std::asin((wanted - 1.0) / (wanted + 1.0)) * 180.0 / kPi;
-  return std::clamp(lowered, kLowestFrictionAngle, phi_deg - 5.0);
+  return std::clamp(lowered, kLowestFrictionAngle, std::max(kLowestFrictionAngle, phi_deg - 5.0));
 }
 
 }  // namespace
@@ -141,6 +141,21 @@ LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const L
   auto map_log_ucs = [&](double log_c, double log_sigma_t) {
     return map ? std::log(map->At(target.poisson_ratio, phi_deg, std::exp(log_sigma_t - log_c)).ucs_over_cohesion)
                : 0.0;
+  };
+  // With a map: the ln c within a factor 3 of `around` at which the map's UCS, times the
+  // specimen factor exp(offset), is the target's, at the triangles' ln sigma_t. ln c + ln(UCS / c)
+  // rises with ln c while d ln(UCS / c) / d ln s < 1 (the UCS never falls as c rises), so the
+  // root is bracketed and bisected; without a root, the end nearer it.
+  auto solve_log_c = [&](double offset, double log_sigma_t, double around) {
+    auto h = [&](double x) { return x + offset + map_log_ucs(x, log_sigma_t) - goal[0]; };
+    double lo = around - std::log(3.0), hi = around + std::log(3.0);
+    const double h_lo = h(lo), h_hi = h(hi);
+    if (h_lo >= 0.0 || h_hi <= 0.0) return std::abs(h_lo) < std::abs(h_hi) ? lo : hi;
+    for (int i = 0; i < 60; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (h(mid) < 0.0 ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
   };
   if (map) {
     const LatticeMapStart start = StartFromMap(*map, target);
@@ -293,7 +308,10 @@ LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const L
           " degrees (the target gives none)");
       phi_deg = new_phi;
       ++lowerings;
-      p[0] = std::log(target.ucs_pa / (specimen_factor * MohrCoulombUcsPerCohesion(phi_deg)));
+      if (map)  // the specimen's factor over the map carried over, c from the map at the new angle
+        p[0] = solve_log_c(ucs_offsets.back(), p[1], p[0]);
+      else
+        p[0] = std::log(target.ucs_pa / (specimen_factor * MohrCoulombUcsPerCohesion(phi_deg)));
       slopes = Eigen::Vector2d(1.0, 1.0);
       first_round_at_phi = round + 1;
       continue;
@@ -370,6 +388,7 @@ LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const L
     }
     if (!summary.tensile_capped)
       p[1] += std::clamp((goal[1] - m[1]) / slopes[1], -std::log(3.0), std::log(3.0));
+    if (map) p[0] = solve_log_c(offset, p[1], round_log_c);
     // The bracket from the rounds at the next c (within 3 %): near the shear limit the
     // Brazilian strength moves with c too (Nevada Test Site granite: 11.58 MPa at c 43.0 MPa,
     // 12.48 MPa at 46.4 MPa, both at triangle sigma_t 17.17 MPa).
@@ -379,10 +398,7 @@ LatticeCalibrationSummary CalibrateLattice(const TargetMaterial& target, const L
         if (std::abs(q.log_c - p[0]) < std::log(1.03)) at_c.push_back(q);
       if (const Bracket b = bracket_of(at_c, goal[1])) p[1] = inside(b, goal[1]);
     }
-    if (map)
-      for (int iteration = 0; iteration < 4; ++iteration)
-        p[0] = round_log_c + std::clamp(goal[0] - offset - map_log_ucs(p[0], p[1]) - round_log_c, -std::log(3.0),
-                                        std::log(3.0));
+    if (map) p[0] = solve_log_c(offset, p[1], round_log_c);
   }
   summary.friction_angle_deg = summary.material.strength.friction_angle_deg;
   const LatticeCalibrationRound& best = summary.rounds[summary.best_round - 1];

@@ -81,7 +81,7 @@ bool LatticeMapDesign::IsValid(std::string* error) const {
   if (!Ascending(poisson_ratios) || poisson_ratios.front() < 0.0 || poisson_ratios.back() >= 0.5)
     return fail("poisson_ratios must ascend within [0, 0.5)");
   if (!Ascending(friction_angles_deg) || friction_angles_deg.front() < 0.0 || friction_angles_deg.back() > 60.0)
-    return fail("friction_angles must ascend within [0, 60] degrees");
+    return fail("friction_angles_deg must ascend within [0, 60] degrees");
   if (!Ascending(tensile_over_cohesion) || tensile_over_cohesion.front() <= 0.0)
     return fail("tensile_over_cohesion must ascend and be > 0");
   if (!(cohesion_over_modulus > 0.0 && cohesion_over_modulus <= 0.01))
@@ -108,8 +108,7 @@ LatticeMapDesign LatticeMapDesign::FromJson(const nlohmann::json& j) {
 std::vector<double> LatticeMapDesign::RowsFor(double nu) const {
   for (double row : poisson_ratios)
     if (std::abs(row - nu) <= kRowMatch) return {row};
-  if (nu < poisson_ratios.front()) return {poisson_ratios.front()};
-  if (nu > poisson_ratios.back()) return {poisson_ratios.back()};
+  if (nu < poisson_ratios.front() || nu > poisson_ratios.back()) return {nu};  // its own row
   const auto [i, w] = Cell(poisson_ratios, nu);
   (void)w;
   return {poisson_ratios[i], poisson_ratios[i + 1]};
@@ -117,14 +116,22 @@ std::vector<double> LatticeMapDesign::RowsFor(double nu) const {
 
 // --- The map --------------------------------------------------------------------------------
 
+const LatticeMapPoint* LatticeStrengthMap::Find(double nu, double phi_deg, double s) const {
+  for (const LatticeMapPoint& q : points)
+    if (std::abs(q.poisson_ratio - nu) < 1e-9 && std::abs(q.friction_angle_deg - phi_deg) < 1e-9 &&
+        std::abs(q.tensile_over_cohesion / s - 1.0) < 1e-9)
+      return &q;
+  return nullptr;
+}
+
 std::vector<double> LatticeStrengthMap::Rows() const {
   // A row is present when every (phi, s) pair of the design has its point.
   std::vector<double> rows;
   for (double nu : design.poisson_ratios) {
-    size_t count = 0;
-    for (const LatticeMapPoint& q : points)
-      if (std::abs(q.poisson_ratio - nu) < 1e-9) ++count;
-    if (count == design.friction_angles_deg.size() * design.tensile_over_cohesion.size()) rows.push_back(nu);
+    bool complete = true;
+    for (double phi : design.friction_angles_deg)
+      for (double s : design.tensile_over_cohesion) complete = complete && Find(nu, phi, s) != nullptr;
+    if (complete) rows.push_back(nu);
   }
   return rows;
 }
@@ -159,10 +166,9 @@ LatticeMapPoint LatticeStrengthMap::At(double nu, double phi_deg, double s) cons
         if (w == 0.0) continue;
         const double phi = design.friction_angles_deg[std::min(ip + dp, design.friction_angles_deg.size() - 1)];
         const double sk = design.tensile_over_cohesion[std::min(is + ds, log_s.size() - 1)];
-        const auto q = std::find_if(points.begin(), points.end(), [&](const LatticeMapPoint& p) {
-          return std::abs(p.poisson_ratio - row) < 1e-9 && std::abs(p.friction_angle_deg - phi) < 1e-9 &&
-                 std::abs(p.tensile_over_cohesion - sk) < 1e-12;
-        });
+        const LatticeMapPoint* q = Find(row, phi, sk);
+        if (!q) throw InputError("the lattice map lacks its point nu " + Number(row) + ", phi " + Number(phi) +
+                                 ", sigma_t/c " + Number(sk));
         u += w * std::log(q->ucs_over_cohesion);
         b += w * std::log(q->bts_over_tensile);
       }
@@ -273,7 +279,13 @@ void MeasureLatticeMapRows(const std::vector<double>& rows, const LatticeRoundMo
           progress(static_cast<double>(measured.size()) / total,
                    "lattice map: nu " + Number(nu) + ", phi " + Number(phi) + ", sigma_t/c " + Number(s));
         const auto point_start = std::chrono::steady_clock::now();
-        const LatticeRoundMeasurement r = measure(material, static_cast<int>(measured.size()) + 1);
+        LatticeRoundMeasurement r;
+        try {
+          r = measure(material, static_cast<int>(measured.size()) + 1);
+        } catch (const std::runtime_error& e) {  // also a test's refusal of its step budget: not the user's input
+          throw ComputationError("lattice map point nu " + Number(nu) + ", phi " + Number(phi) + ", sigma_t/c " +
+                                 Number(s) + ": " + e.what());
+        }
         LatticeMapPoint q;
         q.poisson_ratio = nu;
         q.friction_angle_deg = phi;
@@ -354,8 +366,11 @@ LatticeMapStart StartFromMap(const LatticeStrengthMap& map, const TargetMaterial
         std::clamp(std::log(target.tensile_strength_pa * MohrCoulombUcsPerCohesion(phi) / target.ucs_pa), ls0, ls1);
     double best = std::numeric_limits<double>::infinity();
     for (int k = 0; k + 1 < kSamples; ++k) {
-      if ((g[k] > 0.0) == (g[k + 1] > 0.0) && g[k] != 0.0) continue;
-      const double ls = g[k] == g[k + 1] ? log_s_at(k) : log_s_at(k) + (log_s_at(k + 1) - log_s_at(k)) * g[k] / (g[k] - g[k + 1]);
+      const bool last_is_root = k + 2 == kSamples && g[k + 1] == 0.0;
+      if ((g[k] > 0.0) == (g[k + 1] > 0.0) && g[k] != 0.0 && !last_is_root) continue;
+      const double ls = last_is_root    ? log_s_at(k + 1)
+                        : g[k] == g[k + 1] ? log_s_at(k)
+                                           : log_s_at(k) + (log_s_at(k + 1) - log_s_at(k)) * g[k] / (g[k] - g[k + 1]);
       if (std::abs(ls - ls_closed) < best) {
         best = std::abs(ls - ls_closed);
         root_ls = ls;
@@ -435,6 +450,25 @@ std::string LatticeMapFileName(const PackingDescriptors& ucs, const PackingDescr
   return "maps_2d_lattice_" + MapIdentityHash(identity.dump()) + ".json";
 }
 
+bool LatticeMapMatches(const LatticeStrengthMap& map, const PackingDescriptors& ucs, const PackingDescriptors& bts,
+                       const nlohmann::json& protocol, std::string* why) {
+  std::string text;
+  auto count_differs = [&](const PackingDescriptors& built_on, const PackingDescriptors& d, const char* which) {
+    if (d.particles > 0 && std::abs(static_cast<double>(built_on.particles) / d.particles - 1.0) <= 0.1) return false;
+    text = std::string(which) + " specimen: " + std::to_string(d.particles) + " particles, the map's " +
+           std::to_string(built_on.particles) + " (more than 10 % apart)";
+    return true;
+  };
+  if (!MapsMatchPacking(map.ucs_descriptors, ucs, &text)) text = "UCS specimen: " + text;
+  else if (!MapsMatchPacking(map.bts_descriptors, bts, &text)) text = "Brazilian specimen: " + text;
+  else if (count_differs(map.ucs_descriptors, ucs, "UCS") || count_differs(map.bts_descriptors, bts, "Brazilian")) {
+  } else if (map.protocol != protocol) {
+    text = "the tests' protocol differs (map: " + map.protocol.dump() + ")";
+  }
+  if (why) *why = text;
+  return text.empty();
+}
+
 std::string FindLatticeStrengthMap(const std::string& directory, const PackingDescriptors& ucs,
                                    const PackingDescriptors& bts, const nlohmann::json& protocol) {
   namespace fs = std::filesystem;
@@ -453,16 +487,9 @@ std::string FindLatticeStrengthMap(const std::string& directory, const PackingDe
     std::sort(others.begin(), others.end());  // the same choice on every machine
     candidates.insert(candidates.end(), others.begin(), others.end());
   }
-  auto same_count = [](const PackingDescriptors& a, const PackingDescriptors& b) {
-    return b.particles > 0 && std::abs(static_cast<double>(a.particles) / b.particles - 1.0) <= 0.1;
-  };
   for (const fs::path& p : candidates) {
     try {
-      const LatticeStrengthMap m = LoadLatticeStrengthMap(p.string());
-      if (m.protocol == protocol && MapsMatchPacking(m.ucs_descriptors, ucs, nullptr) &&
-          MapsMatchPacking(m.bts_descriptors, bts, nullptr) && same_count(m.ucs_descriptors, ucs) &&
-          same_count(m.bts_descriptors, bts))
-        return p.string();
+      if (LatticeMapMatches(LoadLatticeStrengthMap(p.string()), ucs, bts, protocol, nullptr)) return p.string();
     } catch (const std::exception&) {
       // Not a readable lattice map: not a candidate.
     }

@@ -12,7 +12,8 @@
 // (the interval the lattice reaches at the target's nu on these specimens) and its start:
 // the (phi, s) whose ratio is the target's, c from the map's UCS / c, sigma_t = s c.
 //
-//   LatticeStrengthMap map = BuildLatticeStrengthMap(design, LatticeTestsOn(ucs, bts, test, protocol));
+//   LatticeStrengthMap map;  // map.design: the default grid
+//   MeasureLatticeMapRows({0.25}, LatticeTestsOn(ucs, bts, test, protocol), progress, &map);
 //   LatticeMapStart start = StartFromMap(map, target);   // start.reachable, start.cohesion_pa, ...
 
 #include <functional>
@@ -49,7 +50,7 @@ LatticeRoundModel LatticeTestsOn(const Packing<2>& ucs, const Packing<2>& bts, c
 
 // The grid of a map. Each row (one nu) holds every (phi, s) pair.
 struct LatticeMapDesign {
-  std::vector<double> poisson_ratios = {0.05, 0.15, 0.25, 0.35, 0.45, 0.49};  // in [0, 0.5), ascending
+  std::vector<double> poisson_ratios = {0.05, 0.15, 0.25, 0.35, 0.45};  // in [0, 0.5), ascending
   std::vector<double> friction_angles_deg = {5.0, 15.0, 30.0, 50.0};    // in [0, 60], ascending
   std::vector<double> tensile_over_cohesion = {0.05, 0.1, 0.2, 0.4, 1.0, 2.5};  // > 0, ascending
   double cohesion_over_modulus = 1e-3;  // the strain scale c / E of the points, in (0, 0.01]
@@ -58,7 +59,7 @@ struct LatticeMapDesign {
   nlohmann::json ToJson() const;
   static LatticeMapDesign FromJson(const nlohmann::json& j);
   // The rows of this grid needed at `poisson_ratio`: the one it falls on (within 0.005), else
-  // the two around it; the nearest end row outside the grid.
+  // the two around it; outside the grid, a row at `poisson_ratio` itself.
   std::vector<double> RowsFor(double poisson_ratio) const;
 };
 
@@ -78,12 +79,13 @@ struct LatticeStrengthMap {
   std::vector<LatticeMapPoint> points;
   double build_seconds = 0.0;
 
-  std::vector<double> Rows() const;  // the nu of the rows present, ascending
+  std::vector<double> Rows() const;  // the nu of the complete rows present, ascending
+  const LatticeMapPoint* Find(double poisson_ratio, double friction_angle_deg, double tensile_over_cohesion) const;
   // Whether the rows present interpolate nu: a row within 0.005, or rows on both sides at
   // most 0.1 apart. `why` says what is missing.
   bool Covers(double poisson_ratio, std::string* why = nullptr) const;
   // UCS / c and sigma_B / sigma_t at (nu, phi, s): linear in nu and phi, in ln s, of the
-  // logarithms; phi and s clamped to the grid. Requires Covers(nu).
+  // logarithms; phi and s clamped to the grid. InputError unless Covers(nu).
   LatticeMapPoint At(double poisson_ratio, double friction_angle_deg, double tensile_over_cohesion) const;
 
   nlohmann::json ToJson() const;
@@ -97,7 +99,8 @@ nlohmann::json LatticeMapProtocol(const LabTestOptions& test, const LatticeProto
 
 // Measures the points of the map's design at the rows `poisson_ratios` (in [0, 0.5); a row
 // new to the design is added to it), appending to `map` (rows already present are measured
-// again and replaced; an exception leaves `map` as it was).
+// again and replaced; an exception leaves `map` as it was). A failed or refused test (no
+// peak, or beyond its step budget) throws ComputationError naming the point.
 // Each point runs `measure` at E = c / cohesion_over_modulus, c = 30 MPa. Progress: fraction
 // of the points, with the point.
 void MeasureLatticeMapRows(const std::vector<double>& poisson_ratios, const LatticeRoundModel& measure,
@@ -132,6 +135,11 @@ LatticeStrengthMap LoadLatticeStrengthMap(const std::string& path);
 // maps_2d_lattice_<hash of descriptors and protocol>.json.
 std::string LatticeMapFileName(const PackingDescriptors& ucs, const PackingDescriptors& bts,
                                const nlohmann::json& protocol);
+// Whether `map` was measured on equivalent specimens (descriptors as MapsMatchPacking,
+// particle counts within 10 %: the strengths depend on the size) with this protocol; `why`
+// names the first difference.
+bool LatticeMapMatches(const LatticeStrengthMap& map, const PackingDescriptors& ucs, const PackingDescriptors& bts,
+                       const nlohmann::json& protocol, std::string* why);
 // The lattice map in `directory` for these specimens and protocol (descriptors as
 // MapsMatchPacking, particle counts within 10 %): a path, or empty. Unreadable files are
 // skipped.

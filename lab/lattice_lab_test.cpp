@@ -301,8 +301,14 @@ LabTestResult RunLatticeTestAtRate(const Packing<2>& packing, const LatticeMater
   }
   const double steps_needed =
       std::ceil((strain_limit * height / 2.0 + speed * ramp + speed * consolidation) / (speed * dt)) + 10.0;
-  if (!(steps_needed <= static_cast<double>(options.max_steps)))  // the budget, before any step
-    throw InputError(StepBudgetRefusal(steps_needed, strain_limit, speed, dt, options.max_steps, ""));
+  // The budget, before any step; with the half-rate repeat, that run's twice as many steps too
+  // (refused now rather than after the first run).
+  const double budget = options.check_quasi_static ? 2.0 * steps_needed : steps_needed;
+  if (!(budget <= static_cast<double>(options.max_steps)))
+    throw InputError(StepBudgetRefusal(budget, strain_limit, speed, dt, options.max_steps,
+                                       options.check_quasi_static
+                                           ? "; the count is of the test and its half-rate repeat (quasi_static_check)"
+                                           : ""));
   const long max_steps = static_cast<long>(steps_needed);
   // The energy audit: triangles' V sigma:eps / 2 (particle_elastic), the Brazilian platens'
   // penalty (contact_elastic), the platens' work, local damping, and the energy of each

@@ -234,8 +234,11 @@ int Run(const TargetMaterial& target, CalibrationOptions options, const CommandL
 std::optional<LatticeStrengthMap> LatticeMapFor(const Packing<2>& ucs, const Packing<2>& bts,
                                                 const TargetMaterial& target, const LatticeCalibrationOptions& options,
                                                 const CommandLine& cl, std::string* report) {
-  if (cl.lattice_map == "none" || target.orthotropic) {
-    *report = std::string("strength map: none (") + (target.orthotropic ? "an orthotropic target" : "--lattice-map none") +
+  if (cl.lattice_map == "none" || target.orthotropic || target.poisson_ratio < 0.0) {
+    *report = std::string("strength map: none (") +
+              (target.orthotropic            ? "an orthotropic target"
+               : target.poisson_ratio < 0.0 ? "its rows are for nu in [0, 0.5)"
+                                            : "--lattice-map none") +
               "): the rounds start from the closed form\n";
     return std::nullopt;
   }
@@ -249,11 +252,8 @@ std::optional<LatticeStrengthMap> LatticeMapFor(const Packing<2>& ucs, const Pac
   if (!path.empty()) {
     map = LoadLatticeStrengthMap(path);
     std::string why;
-    if (!cl.maps_file.empty() &&
-        (!MapsMatchPacking(map.ucs_descriptors, ucs_d, &why) || !MapsMatchPacking(map.bts_descriptors, bts_d, &why) ||
-         map.protocol != protocol))
-      throw InputError("--maps " + path + ": built for other specimens or tests (" +
-                       (why.empty() ? std::string("the test protocol differs") : why) + ")");
+    if (!cl.maps_file.empty() && !LatticeMapMatches(map, ucs_d, bts_d, protocol, &why))
+      throw InputError("--maps " + path + ": built for other specimens or tests: " + why);
   } else {
     map.ucs_descriptors = ucs_d;
     map.bts_descriptors = bts_d;
@@ -272,11 +272,24 @@ std::optional<LatticeStrengthMap> LatticeMapFor(const Packing<2>& ucs, const Pac
     std::string text;
     for (double nu : rows) text += (text.empty() ? "" : ", ") + Number(nu);
     const double before = map.build_seconds;
-    MeasureLatticeMapRows(rows, LatticeTestsOn(ucs, bts, options.test, options.protocol), options.progress, &map);
-    std::filesystem::create_directories(std::filesystem::path(path).parent_path());
-    SaveLatticeStrengthMap(map, path);
+    try {
+      MeasureLatticeMapRows(rows, LatticeTestsOn(ucs, bts, options.test, options.protocol), options.progress, &map);
+    } catch (const ComputationError& e) {
+      std::cerr << "calibrate-to-material: warning: the strength map's rows could not be measured (" << e.what()
+                << "); the rounds start from the closed form\n";
+      *report = "strength map: none (a map point failed): the rounds start from the closed form\n";
+      return std::nullopt;
+    }
     *report = "strength map: " + path + ", rows nu " + text + " measured now (" +
               Number(map.build_seconds - before, 3) + " s)\n";
+    try {
+      const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+      if (!parent.empty()) std::filesystem::create_directories(parent);
+      SaveLatticeStrengthMap(map, path);
+    } catch (const std::exception& e) {  // the calibration goes on with the map in memory
+      std::cerr << "calibrate-to-material: warning: the strength map could not be stored (" << e.what() << ")\n";
+      *report += "  (not stored: " + std::string(e.what()) + ")\n";
+    }
   } else {
     *report = "strength map: " + path + " (built by " + map.code_version + ", " + map.created_utc + ")\n";
   }
@@ -302,6 +315,9 @@ int RunLattice(const TargetMaterial& target, const CommandLine& cl) {
   if (cl.lattice_map != "target" && cl.lattice_map != "all" && cl.lattice_map != "none")
     throw InputError("--lattice-map = '" + cl.lattice_map + "', allowed target, all or none");
   if (!cl.maps_file.empty()) LoadLatticeStrengthMap(cl.maps_file);  // not a lattice map: fails now
+  if (const std::string directory = cl.maps_directory.value_or(""); !directory.empty() &&
+      std::filesystem::exists(directory) && !std::filesystem::is_directory(directory))
+    throw FileError("--maps-dir: '" + directory + "' exists and is not a directory");
   Packing<2> ucs(Domain<2>::Rectangle(0, 0, 1, 1)), bts(Domain<2>::Rectangle(0, 0, 1, 1));
   std::string description, map_report;
   if (!cl.packing.empty()) {

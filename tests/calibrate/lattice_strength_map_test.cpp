@@ -14,6 +14,7 @@
 
 #include "calibrate/lattice_calibration.h"
 #include "calibrate/lattice_strength_map.h"
+#include "common/error.h"
 
 namespace specimen {
 namespace {
@@ -112,10 +113,11 @@ TEST(LatticeStrengthMap, ARatioBelowItsFloorIsOutOfReachBeforeRoundOne) {
   SCOPED_TRACE(start.statement);
   EXPECT_FALSE(start.reachable);
   EXPECT_NE(start.statement.find("out of the lattice's reach"), std::string::npos);
-  // The floor is the smallest ratio of the map's points at nu 0.2.
+  // The floor is the smallest ratio the map gives at nu 0.2 at its grid's (phi, s).
   double floor = 1e9;
-  for (const LatticeMapPoint& q : map.points) floor = std::min(floor, q.StrengthRatio());
-  EXPECT_NEAR(start.ratio_low / floor, 1.0, 0.01);
+  for (double phi : map.design.friction_angles_deg)
+    for (double s : map.design.tensile_over_cohesion) floor = std::min(floor, map.At(0.2, phi, s).StrengthRatio());
+  EXPECT_NEAR(start.ratio_low / floor, 1.0, 1e-3);
   EXPECT_GT(start.ratio_low, 5.0);
   LatticeCalibrationOptions options;
   options.map = map;
@@ -185,12 +187,24 @@ TEST(LatticeStrengthMap, IsFoundOnlyForEquivalentSpecimensAndTheSameTests) {
   EXPECT_EQ(FindLatticeStrengthMap(directory.string(), map.ucs_descriptors, map.bts_descriptors,
                                    LatticeMapProtocol(faster, protocol)),
             "");
-  // Rows: 0.15 and 0.25 interpolate 0.2; 0.3 lies beyond; a row missing a point is no row.
+  // Rows: 0.15 and 0.25 interpolate 0.2; 0.3 lies beyond; a row missing a point is no row,
+  // and a point off the grid does not stand in for it.
   EXPECT_TRUE(map.Covers(0.2));
   EXPECT_FALSE(map.Covers(0.3));
+  const LatticeMapPoint last = map.points.back();
   map.points.pop_back();
   EXPECT_FALSE(map.Covers(0.2));
   EXPECT_TRUE(map.Covers(0.15));
+  LatticeMapPoint off_grid = last;
+  off_grid.tensile_over_cohesion *= 1.3;
+  map.points.push_back(off_grid);
+  EXPECT_FALSE(map.Covers(0.2));
+  EXPECT_THROW(map.At(0.25, 30.0, 0.3), InputError);
+  // The rows a nu needs: on a row, the two around it, its own beyond the grid.
+  const LatticeMapDesign grid;
+  EXPECT_EQ(grid.RowsFor(0.252), std::vector<double>({0.25}));
+  EXPECT_EQ(grid.RowsFor(0.2), std::vector<double>({0.15, 0.25}));
+  EXPECT_EQ(grid.RowsFor(0.02), std::vector<double>({0.02}));
   std::filesystem::remove_all(directory);
 }
 

@@ -137,6 +137,26 @@ TEST(LatticeLab, TheRateIsCappedSoThatTheStrengthsAreQuasiStatic) {
   options.check_quasi_static = false;
   const LabTestResult bts_fast = RunLatticeLabTest(Disc(), m, options, uncapped);
   EXPECT_GT(bts_fast.tensile_strength_pa, 1.2 * bts.tensile_strength_pa);
+
+  // The step budget counts the half-rate repeat: a budget 1.5 times the test's own is refused
+  // before the first step (the repeat needs twice as many), not after the first run.
+  double needed = 0.0;
+  options.max_steps = 1;
+  try {
+    RunLatticeLabTest(Disc(), m, options);
+  } catch (const InputError& e) {
+    const std::string text = e.what();
+    needed = std::stod(text.substr(text.find("about ") + 6));
+  }
+  ASSERT_GT(needed, 100.0);
+  options.max_steps = static_cast<long>(1.5 * needed);
+  options.check_quasi_static = true;
+  try {
+    RunLatticeLabTest(Disc(), m, options);
+    ADD_FAILURE() << "a budget below the test and its repeat was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("half-rate repeat"), std::string::npos) << e.what();
+  }
 }
 
 // The confined (biaxial) test: sigma_3 on the sides, then the platens. The linear portion

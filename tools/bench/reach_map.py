@@ -4,6 +4,7 @@ specimens, measured by real tests; prints the table, writes CSV, JSON and a pict
 
   tools/bench/reach_map.py [--build build] [--out bench-out/reach] [--packings UCS BTS]
         [--models rigid,moment,ddem,lattice] [--markdown PATH] [--picture PATH] [--quick] [--reuse JSON]
+        [--lattice-map JSON]
 
 The specimens: the calibrator's own 5,064-disc UCS square and 3,940-disc Brazilian disc
 (--packings, or bench-out/calibration/reference/ when the calibration bench made them, or
@@ -18,7 +19,10 @@ Brazilian test; the point's (nu, UCS / sigma_t) goes into the map. The grids:
   ddem     deformable particles, nu_p 0.45, kn/(Ep l) at 0.85 of the admissible bound of both
            specimens (rho(B) <= 0.9): kt/kn 0.05, 0.15, 0.3, 0.6 x Rt/Rn 1, 3.16, 10
   lattice  the six-spring lattice, nu 0.05, 0.15, 0.25, 0.35, 0.45 x friction angle 10, 30,
-           50 degrees x triangle sigma_t / c 0.05, 0.2, 2 (E and nu are inputs)
+           50 degrees x triangle sigma_t / c 0.05, 0.2, 2 (E and nu are inputs); with
+           --lattice-map, the points of the calibrator's stored strength map of these specimens
+           instead (data/maps/maps_2d_lattice_*.json: its rows of nu x friction angle 5, 15,
+           30, 50 x sigma_t / c 0.05-2.5, each a UCS and a Brazilian test), not measured again
 
 A model's region is, at each of its elastic sets (one nu), the interval of the ratio over its
 strength parameters. The map is measured, not taken from the calibration maps: the map
@@ -124,6 +128,20 @@ def admissible_compliance(build, packings, nu_p, directory):
 def ends(values, quick):
     """The grid, or in a smoke test (--quick) its two ends."""
     return (values[0], values[-1]) if quick else values
+
+
+def lattice_map_rows(path):
+    """The points of a stored lattice strength map (calibrate/lattice_strength_map.h) as rows."""
+    with open(path) as f:
+        m = json.load(f)
+    rows = []
+    for p in m["points"]:
+        s = p["tensile_over_cohesion"]
+        rows.append({"model": "lattice", "poisson_ratio": p["poisson_ratio"], "friction_angle_deg": p["friction_angle_deg"],
+                     "tensile_over_cohesion": s, "ucs_over_cohesion": p["ucs_over_cohesion"],
+                     "bts_over_tensile": p["bts_over_tensile"], "seconds": p.get("seconds", 0.0),
+                     "strength_ratio": p["ucs_over_cohesion"] / (p["bts_over_tensile"] * s)})
+    return rows
 
 
 def measure(build, packings, models, out, quick=False):
@@ -304,6 +322,8 @@ def main():
     parser.add_argument("--markdown", help="the page to write (default OUT/reach_map.md)")
     parser.add_argument("--picture", help="where to copy the picture (default: only OUT/reach_map.png)")
     parser.add_argument("--quick", action="store_true", help="the two ends of every grid axis: a smoke test")
+    parser.add_argument("--lattice-map", metavar="JSON",
+                        help="the lattice's points from this stored strength map instead of measuring them")
     parser.add_argument("--reuse", metavar="JSON",
                         help="an earlier run's reach_map.json: the points of the models not in --models are "
                              "taken from it (the page says which)")
@@ -330,7 +350,10 @@ def main():
     packings = [os.path.abspath(p) for p in packings]
 
     start = time.monotonic()
-    rows = measure(build, packings, models, out, args.quick)
+    measured = [m for m in models if not (m == "lattice" and args.lattice_map)]
+    rows = measure(build, packings, measured, out, args.quick)
+    if "lattice" in models and args.lattice_map:
+        rows += lattice_map_rows(args.lattice_map)
     reused = []
     if args.reuse:
         with open(args.reuse) as f:
@@ -359,11 +382,20 @@ def main():
 
     md = ["# Reach map (2D, the calibrator's default specimens)", "",
           "Reproduce: `python3 tools/bench/reach_map.py --markdown tools/bench/reach_map.md "
-          "--picture docs/images/reach_map.png` (about %.0f minutes on 2 cores). Every point is the "
+          "--picture docs/images/reach_map.png%s` (%s; every model measured: about 60 minutes on 2 cores, 25 of "
+          "them the lattice). Every point is the "
           "elastic run, the UCS and the Brazilian test of run-test on the 5,064-disc UCS square and the "
-          "3,940-disc Brazilian disc; the grids are in the script's header." % ((time.monotonic() - start) / 60)
+          "3,940-disc Brazilian disc; the grids are in the script's header." % (
+              "".join(" --%s %s" % (k.replace("_", "-"), v) for k, v in (
+                  ("models", args.models if args.models != "rigid,moment,ddem,lattice" else None),
+                  ("reuse", args.reuse and os.path.relpath(os.path.abspath(args.reuse), ROOT)),
+                  ("lattice_map", args.lattice_map and os.path.relpath(os.path.abspath(args.lattice_map), ROOT)))
+                  if v), "%.0f minutes for what it measured" % ((time.monotonic() - start) / 60) if measured
+              else "nothing measured by it")
           + ("" if not reused else " Measured here: %s; taken from an earlier run (`--reuse`): %s." % (
-              ", ".join(MODELS[m] for m in models), ", ".join(MODELS[m] for m in reused))), "",
+              ", ".join(MODELS[m] for m in measured) or "none", ", ".join(MODELS[m] for m in reused)))
+          + ("" if not args.lattice_map else " The lattice's points are those of its stored strength map, %s "
+             "(`--lattice-map`)." % os.path.relpath(os.path.abspath(args.lattice_map), ROOT)), "",
           "![reach map](../../docs/images/reach_map.png)", "",
           "| model | nu (plane strain) | UCS / sigma_t at that nu: lowest - highest measured |", "|---|---|---|"]
     for model in MODELS:
