@@ -252,6 +252,7 @@ nlohmann::json LatticeMapProtocol(const LabTestOptions& test, const LatticeProto
           {"post_peak_stress_fraction", test.post_peak_stress_fraction},
           {"strain_limit", test.strain_limit},
           {"platen_zone_share", protocol.platen_zone_share},
+          {"loading_arc_deg", protocol.loading_arc_deg},
           {"local_damping", protocol.local_damping},
           {"compression_wave_share", protocol.compression_wave_share},
           {"brazilian_wave_share", protocol.brazilian_wave_share}};
@@ -425,6 +426,35 @@ LatticeMapStart StartFromMap(const LatticeStrengthMap& map, const TargetMaterial
 void SaveLatticeStrengthMap(const LatticeStrengthMap& map, const std::string& path) {
   const std::string text = map.ToJson().dump(1);
   WriteFileAtomically(path, [&](std::ostream& out) { out << text << "\n"; });
+}
+
+int MergeLatticeMapRows(const LatticeStrengthMap& stored, LatticeStrengthMap* map) {
+  if (stored.design.friction_angles_deg != map->design.friction_angles_deg ||
+      stored.design.tensile_over_cohesion != map->design.tensile_over_cohesion ||
+      stored.design.cohesion_over_modulus != map->design.cohesion_over_modulus)
+    return 0;  // another grid: its rows are not rows of this map
+  const std::vector<double> present = map->Rows();
+  int added = 0;
+  for (double nu : stored.Rows()) {
+    if (std::find(present.begin(), present.end(), nu) != present.end()) continue;
+    // An incomplete row of `map` at this nu is replaced by the stored complete one.
+    std::vector<LatticeMapPoint>& points = map->points;
+    points.erase(std::remove_if(points.begin(), points.end(),
+                                [nu](const LatticeMapPoint& q) { return q.poisson_ratio == nu; }),
+                 points.end());
+    for (const LatticeMapPoint& q : stored.points)
+      if (q.poisson_ratio == nu) {
+        points.push_back(q);
+        map->build_seconds += q.seconds;
+      }
+    std::vector<double>& rows = map->design.poisson_ratios;
+    if (std::find(rows.begin(), rows.end(), nu) == rows.end()) {
+      rows.push_back(nu);
+      std::sort(rows.begin(), rows.end());
+    }
+    ++added;
+  }
+  return added;
 }
 
 LatticeStrengthMap LoadLatticeStrengthMap(const std::string& path) {

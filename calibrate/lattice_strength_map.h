@@ -129,6 +129,11 @@ LatticeMapStart StartFromMap(const LatticeStrengthMap& map, const TargetMaterial
 // Atomic write (FileError if it cannot be written); load: FileError if unreadable,
 // InputError if not a lattice map.
 void SaveLatticeStrengthMap(const LatticeStrengthMap& map, const std::string& path);
+// Adds to `map` the complete rows of `stored` that it lacks (their points, and their nu to its
+// design); the two must be maps of the same specimens and tests. Another run may have added
+// rows to the file since `map` was read: merged before a save, neither run's rows are lost.
+// Returns the number of rows added.
+int MergeLatticeMapRows(const LatticeStrengthMap& stored, LatticeStrengthMap* map);
 LatticeStrengthMap LoadLatticeStrengthMap(const std::string& path);
 
 // The file name for maps on these specimens with this protocol:

@@ -44,8 +44,8 @@ int LoadingAxis(const LabTestResult& r) {
 // The stress and strain a picture of this test plots (MPa, -).
 double PlotStressMpa(const LabTestResult& r, const LabCurvePoint& p) {
   switch (r.kind) {
-    case LabTestKind::kBrazilian:  // 2 F / (pi D t), Labra (4.38)
-      return 2.0 * p.platen_force_n / (kPi * r.width_m * r.thickness_m) * 1e-6;
+    case LabTestKind::kBrazilian:  // k 2 F / (pi D t), Labra (4.38); k of the lattice's jaws
+      return r.tensile_strength_factor * 2.0 * p.platen_force_n / (kPi * r.width_m * r.thickness_m) * 1e-6;
     case LabTestKind::kIsotropicCompression:
     case LabTestKind::kPureShear:
       return p.control * 1e-6;
@@ -54,10 +54,10 @@ double PlotStressMpa(const LabTestResult& r, const LabCurvePoint& p) {
   }
 }
 
-const char* PlotStressLabel(LabTestKind kind) {
-  switch (kind) {
+const char* PlotStressLabel(const LabTestResult& r) {
+  switch (r.kind) {
     case LabTestKind::kBrazilian:
-      return "2F / (pi D t) [MPa]";
+      return r.tensile_strength_factor != 1.0 ? "k 2F / (pi D t) [MPa] (centre stress, Hondros)" : "2F / (pi D t) [MPa]";
     case LabTestKind::kIsotropicCompression:
       return "mean stress [MPa] (compression positive)";
     case LabTestKind::kPureShear:
@@ -163,7 +163,7 @@ std::string StressStrainScript(const LabTestResult& r, const std::string& csv) {
   const std::string file = GnuplotQuote(csv);
   s << "set datafile separator comma\nset datafile columnheaders\n"
     << "set key top left\nset grid\n"
-    << "set ylabel '" << PlotStressLabel(r.kind) << "'\n"
+    << "set ylabel '" << PlotStressLabel(r) << "'\n"
     << "set y2label 'broken bonds'\nset ytics nomirror\nset y2tics\nset y2range [0:*]\n"
     << "set title \"" << PlotTitle(r.BriefReport()) << "\" noenhanced font ',9'\n";
   const std::string bonds = "(column('broken_tension')+column('broken_shear'))";

@@ -119,7 +119,13 @@ std::string LabTestResult::FullReport() const {
   row("termination", std::string(TerminationName(termination)) + ": " + termination_message);
   switch (kind) {
     case LabTestKind::kBrazilian:
-      row("tensile strength 2F/(pi D t)", Mpa(tensile_strength_pa));
+      if (loading_arc_deg > 0.0) {
+        row("tensile strength k 2F/(pi D t)", Mpa(tensile_strength_pa) + "  (k" +
+                                                  Format(" %.4f: Hondros, loading arc", tensile_strength_factor) +
+                                                  Format(" %g deg)", loading_arc_deg));
+      } else {
+        row("tensile strength 2F/(pi D t)", Mpa(tensile_strength_pa));
+      }
       row("peak platen force", Format("%.5g ", peak_force_n) + ForceUnit(dimension));
       row("platen strain at peak", Format("%.5g", boundary_strain_at_peak));
       break;
@@ -222,7 +228,11 @@ nlohmann::json LabTestResult::ToJson() const {
   j["strain_at_peak"] = strain_at_peak;
   j["boundary_strain_at_peak"] = boundary_strain_at_peak;
   j[PerThickness("peak_force_n", dimension)] = peak_force_n;
-  if (kind == LabTestKind::kBrazilian) j["tensile_strength_pa"] = tensile_strength_pa;
+  if (kind == LabTestKind::kBrazilian) {
+    j["tensile_strength_pa"] = tensile_strength_pa;
+    j["tensile_strength_factor"] = tensile_strength_factor;
+    j["loading_arc_deg"] = loading_arc_deg;
+  }
   if (kind == LabTestKind::kIsotropicCompression) j["bulk_modulus_pa"] = bulk_modulus_pa;
   if (kind == LabTestKind::kPureShear) j["shear_modulus_pa"] = shear_modulus_pa;
   if (kind == LabTestKind::kConfinedCompression) {

@@ -351,6 +351,7 @@ void ReadTest(const toml::table* table, const std::string& source, LabScene* sce
   t.Number("platen_stiffness_ratio", &o.platen_stiffness_ratio);
   t.Number("platen_friction", &o.platen_friction);
   scene->platen_zone_given = t.Number("platen_zone", &scene->lattice_protocol.platen_zone_share);
+  scene->loading_arc_given = t.Number("loading_arc", &scene->lattice_protocol.loading_arc_deg);
   // The lattice's cap on the rate (LatticeProtocol), for the scene's one test.
   double wave_share = 0.0;
   scene->wave_share_given = t.Number("wave_share", &wave_share);
@@ -382,6 +383,8 @@ void ReadTest(const toml::table* table, const std::string& source, LabScene* sce
   }
   std::string error;
   if (!o.IsValid(&error)) throw InputError(t.where() + ": " + InUserTerms(error, kTestKeys));
+  // The lattice's keys, checked here so that a bad one is named before the specimen is made.
+  if (!scene->lattice_protocol.IsValid(&error)) throw InputError(t.where() + ": " + error);
 }
 
 void ReadOutput(const toml::table* table, const std::string& source, LabOutputOptions* output) {
@@ -458,8 +461,9 @@ LabScene ParseLabScene(const std::string& toml_text, const std::string& source) 
           throw InputError(source + " [test]: '" + std::string(key.str()) +
                            "' is a setting of the bonded tests; the lattice model does not use it");
       }
-  } else if (scene.platen_zone_given || scene.wave_share_given) {
-    throw InputError(source + " [test]: '" + (scene.platen_zone_given ? "platen_zone" : "wave_share") +
+  } else if (scene.platen_zone_given || scene.wave_share_given || scene.loading_arc_given) {
+    throw InputError(source + " [test]: '" +
+                     (scene.platen_zone_given ? "platen_zone" : scene.wave_share_given ? "wave_share" : "loading_arc") +
                      "' is for model = \"lattice\" ([material])");
   }
   return scene;

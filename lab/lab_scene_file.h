@@ -45,7 +45,8 @@
 //   strain_boundary_margin, linear_portion_low, servo_gain_fraction, servo_integral_transits,
 //   consolidation_tolerance, platen_stiffness_ratio, platen_friction, local_damping,
 //   dashpot_ratio, mass_scaling (mass_scaling_budget), quasi_static_tolerance, threads;
-//   lattice Brazilian: platen_zone (LatticeProtocol::platen_zone_share)
+//   lattice Brazilian: platen_zone (LatticeProtocol::platen_zone_share), loading_arc
+//   (LatticeProtocol::loading_arc_deg, the jaws' arc 2 alpha in degrees)
 //   lattice: wave_share (the cap on the rate, LatticeProtocol::compression_wave_share or
 //   brazilian_wave_share by the kind; 0 = the loading-rate group as given)
 //
@@ -82,6 +83,7 @@ struct LabScene {
   LatticeProtocol lattice_protocol;
   bool platen_zone_given = false;
   bool wave_share_given = false;
+  bool loading_arc_given = false;
   bool plane_model_given = false;  // a 2D setting: refused with a 3D specimen
   LabTestOptions test;
   std::vector<double> confining_stresses_pa;  // biaxial envelope when not empty

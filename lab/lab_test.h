@@ -394,7 +394,11 @@ struct LabTestResult {
   double strain_at_peak = 0.0;  // Bagi axial strain (shortening positive)
   double boundary_strain_at_peak = 0.0;
   double peak_force_n = 0.0;    // mean platen force at the peak
-  double tensile_strength_pa = 0.0;  // BTS: 2 F / (pi D t)
+  double tensile_strength_pa = 0.0;  // BTS: k 2 F / (pi D t)
+  // BTS: k, the centre's tensile stress per 2 F / (pi D t): 1 for flat platens (Labra (4.38)),
+  // Hondros's (sin 2 alpha - alpha) / sin alpha for the lattice's jaws with a loading arc 2 alpha.
+  double tensile_strength_factor = 1.0;
+  double loading_arc_deg = 0.0;  // BTS: the jaws' 2 alpha (0: flat platens)
   ElasticConstantsMeasured elastic;
   // UCS and biaxial: the linear portion of the intact specimen (lab_measurement.h
   // LinearPortionElasticConstants), what the calibrator matches to a rock's E and nu.

@@ -1,6 +1,7 @@
 #include "lab/lattice_lab_test.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -62,6 +63,55 @@ Supports DiscSupports(const PackingLattice& p, const Domain<2>& domain) {
   if (north < 0 || south < 0 || north == south) throw InputError("the lattice disc has no surface nodes");
   s.held_x = {north, south};
   return s;
+}
+
+// A Brazilian jaw with a loading arc: the surface nodes within alpha of its pole, each pressed
+// along its inward normal n_i with the share w_i of the jaw's force that its arc length has
+// (uniform radial pressure, Hondros 1959). The jaw's force follows a penalty on its
+// penetration travel C - sum w_i n_i . u_i, C = sum w_i cos theta_i (a rigid jaw moved by
+// `travel` along y moves the arc at theta_i by travel cos theta_i along n_i).
+struct Jaw {
+  std::vector<int> nodes;
+  std::vector<double> weights;       // sum 1
+  std::vector<Vector<2>> inward;     // unit normals towards the centre
+  double reach = 0.0;                // C
+};
+
+// The jaws of a loading arc 2 alpha (radians) on the disc's surface nodes: north, south.
+std::array<Jaw, 2> ArcJaws(const PackingLattice& p, const Domain<2>& domain, double alpha) {
+  const Vector<2> centre = domain.CircleCentre();
+  // Each surface node's arc length share: half the angular gap to its neighbours.
+  std::vector<std::pair<double, int>> around;
+  for (int i = p.particle_nodes; i < p.node_count(); ++i) {
+    const Vector<2> r = p.nodes[i] - centre;
+    around.push_back({std::atan2(r.y(), r.x()), i});
+  }
+  std::sort(around.begin(), around.end());
+  const int m = static_cast<int>(around.size());
+  std::array<Jaw, 2> jaws;
+  for (int k = 0; k < m; ++k) {
+    const double before = around[(k + m - 1) % m].first, after = around[(k + 1) % m].first;
+    double gap = after - before;
+    if (gap <= 0.0) gap += 2.0 * kPi;
+    const int i = around[k].second;
+    const Vector<2> r = p.nodes[i] - centre;
+    const int side = r.y() > 0.0 ? 0 : 1;
+    const double from_pole = std::atan2(std::abs(r.x()), std::abs(r.y()));
+    if (from_pole > alpha) continue;
+    jaws[side].nodes.push_back(i);
+    jaws[side].weights.push_back(0.5 * gap);
+    jaws[side].inward.push_back(-r / r.norm());
+  }
+  for (Jaw& jaw : jaws) {
+    if (jaw.nodes.empty()) throw InputError("the loading arc holds no surface node of the lattice disc");
+    double total = 0.0;
+    for (double w : jaw.weights) total += w;
+    for (size_t k = 0; k < jaw.nodes.size(); ++k) {
+      jaw.weights[k] /= total;
+      jaw.reach += jaw.weights[k] * std::abs(jaw.inward[k].y());
+    }
+  }
+  return jaws;
 }
 
 // Area averages of the triangles' stress and strain (Voigt), and the failed counts.
@@ -145,6 +195,10 @@ bool LatticeProtocol::IsValid(std::string* error) const {
     *error = "platen_zone = " + std::to_string(platen_zone_share) + ": must be in [0, 0.3] (share of the diameter)";
     return false;
   }
+  if (!(loading_arc_deg >= 0.0 && loading_arc_deg <= 60.0)) {
+    *error = "loading_arc = " + Number(loading_arc_deg) + ": must be in [0, 60] (degrees, the jaw's arc 2 alpha)";
+    return false;
+  }
   if (!(local_damping >= 0.0 && local_damping < 1.0)) {
     *error = "local_damping = " + Number(local_damping) + ": must be in [0, 1)";
     return false;
@@ -205,8 +259,14 @@ LabTestResult RunLatticeTestAtRate(const Packing<2>& packing, const LatticeMater
   const double transit = height / wave_speed;
   const double ramp = options.velocity_ramp_transits * transit;
   const double strain_limit = options.strain_limit > 0.0 ? options.strain_limit : 0.02;
-  // Brazilian platens: a penalty of E' s per contacting node (compression only).
+  // Brazilian platens: a penalty of E' s per contacting node (compression only); a jaw with a
+  // loading arc gets E' s per node of its arc (against its penetration).
   const double platen_stiffness = d.d22;
+  const double arc_half_angle = 0.5 * protocol.loading_arc_deg * kPi / 180.0;
+  const bool arc = !ucs && arc_half_angle > 0.0;
+  const std::array<Jaw, 2> jaws = arc ? ArcJaws(specimen, domain, arc_half_angle) : std::array<Jaw, 2>{};
+  std::array<double, 2> jaw_stiffness{0.0, 0.0};
+  for (int j = 0; arc && j < 2; ++j) jaw_stiffness[j] = platen_stiffness * static_cast<double>(jaws[j].nodes.size());
 
   // Time step: the lattice's certified limit, with the platen penalty added by Weyl's
   // inequality (lambda_max(A + B) <= lambda_max(A) + lambda_max(B)).
@@ -218,7 +278,18 @@ LabTestResult RunLatticeTestAtRate(const Packing<2>& packing, const LatticeMater
     double lightest = std::numeric_limits<double>::infinity();
     for (int i = specimen.particle_nodes; i < n; ++i)
       if (mass[i] > 0.0) lightest = std::min(lightest, mass[i]);
-    omega_squared += platen_stiffness / lightest;
+    double platens = platen_stiffness / lightest;
+    // A jaw couples its nodes by the rank-one K (w n)(w n)^T: lambda_max(M^-1 K) <= K sum w_i^2 / m_i.
+    if (arc) {
+      platens = 0.0;
+      for (int j = 0; j < 2; ++j) {
+        double sum = 0.0;
+        for (size_t k = 0; k < jaws[j].nodes.size(); ++k)
+          sum += jaws[j].weights[k] * jaws[j].weights[k] / mass[jaws[j].nodes[k]];
+        platens = std::max(platens, jaw_stiffness[j] * sum);
+      }
+    }
+    omega_squared += platens;
   }
   const double critical = 2.0 / std::sqrt(omega_squared);
   const double dt = options.time_step_safety_factor * critical;
@@ -240,7 +311,7 @@ LabTestResult RunLatticeTestAtRate(const Packing<2>& packing, const LatticeMater
   result.time_step_s = dt;
   result.critical_time_step_s = critical;
   result.strain_limit = strain_limit;
-  result.stages = {"lattice_forces", "triangle_failure", ucs ? "glued_platens" : "penalty_platens", "local_damping",
+  result.stages = {"lattice_forces", "triangle_failure", ucs ? "glued_platens" : arc ? "pressure_jaws" : "penalty_platens", "local_damping",
                    "central_differences"};
 
   std::vector<char> prescribed_y(n, 0), held_x(n, 0);
@@ -368,6 +439,17 @@ LabTestResult RunLatticeTestAtRate(const Packing<2>& packing, const LatticeMater
     if (ucs) {
       for (int i : supports.top) force_top += f[i].y();
       for (int i : supports.bottom) force_bottom -= f[i].y();
+    } else if (arc) {
+      for (int j = 0; j < 2; ++j) {
+        const Jaw& jaw = jaws[j];
+        double penetration = travel * jaw.reach;
+        for (size_t k = 0; k < jaw.nodes.size(); ++k) penetration -= jaw.weights[k] * jaw.inward[k].dot(u[jaw.nodes[k]]);
+        if (penetration <= 0.0) continue;
+        const double force = jaw_stiffness[j] * penetration;
+        for (size_t k = 0; k < jaw.nodes.size(); ++k) f[jaw.nodes[k]] += jaw.weights[k] * force * jaw.inward[k];
+        (j == 0 ? force_top : force_bottom) += force * jaw.reach;
+        platen_elastic += 0.5 * jaw_stiffness[j] * penetration * penetration;
+      }
     } else {
       const double top = platen_top0 - travel, bottom = platen_bottom0 + travel;
       for (int i : supports.top) {
@@ -510,7 +592,12 @@ LabTestResult RunLatticeTestAtRate(const Packing<2>& packing, const LatticeMater
                                                  options.modulus_window_high);
       result.linear_elastic = LinearPortionElasticConstants<2>(result.curve, 1, options.linear_portion_low);
     } else {
-      result.tensile_strength_pa = 2.0 * at.platen_force_n / (kPi * height * lattice.thickness_m);
+      // The centre's tensile stress at the peak (Hondros 1959; k = 1 for a point load, Labra (4.38)).
+      const double a = arc_half_angle;
+      const double k = arc ? (std::sin(2.0 * a) - a) / std::sin(a) : 1.0;
+      result.tensile_strength_factor = k;
+      result.loading_arc_deg = arc ? protocol.loading_arc_deg : 0.0;
+      result.tensile_strength_pa = k * 2.0 * at.platen_force_n / (kPi * height * lattice.thickness_m);
       result.peak_stress_pa = result.tensile_strength_pa;
     }
   }

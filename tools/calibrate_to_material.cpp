@@ -285,6 +285,15 @@ std::optional<LatticeStrengthMap> LatticeMapFor(const Packing<2>& ucs, const Pac
     try {
       const std::filesystem::path parent = std::filesystem::path(path).parent_path();
       if (!parent.empty()) std::filesystem::create_directories(parent);
+      // Rows another run stored meanwhile are kept (read again just before the write).
+      if (std::filesystem::exists(path)) {
+        try {
+          const LatticeStrengthMap stored = LoadLatticeStrengthMap(path);
+          if (LatticeMapMatches(stored, ucs_d, bts_d, protocol, nullptr)) MergeLatticeMapRows(stored, &map);
+        } catch (const std::exception&) {
+          // Not a readable map: replaced by this one.
+        }
+      }
       SaveLatticeStrengthMap(map, path);
     } catch (const std::exception& e) {  // the calibration goes on with the map in memory
       std::cerr << "calibrate-to-material: warning: the strength map could not be stored (" << e.what() << ")\n";

@@ -182,6 +182,11 @@ TEST(LatticeStrengthMap, IsFoundOnlyForEquivalentSpecimensAndTheSameTests) {
   other = map.ucs_descriptors;
   other.particles = 20000;  // the strengths depend on the specimen's size
   EXPECT_EQ(FindLatticeStrengthMap(directory.string(), other, map.bts_descriptors, map.protocol), "");
+  LatticeProtocol point_load = protocol;
+  point_load.loading_arc_deg = 0.0;  // the Brazilian strength depends on the jaws
+  EXPECT_EQ(FindLatticeStrengthMap(directory.string(), map.ucs_descriptors, map.bts_descriptors,
+                                   LatticeMapProtocol(test, point_load)),
+            "");
   LabTestOptions faster = test;
   faster.loading_rate_group *= 2.0;
   EXPECT_EQ(FindLatticeStrengthMap(directory.string(), map.ucs_descriptors, map.bts_descriptors,
@@ -206,6 +211,34 @@ TEST(LatticeStrengthMap, IsFoundOnlyForEquivalentSpecimensAndTheSameTests) {
   EXPECT_EQ(grid.RowsFor(0.2), std::vector<double>({0.15, 0.25}));
   EXPECT_EQ(grid.RowsFor(0.02), std::vector<double>({0.02}));
   std::filesystem::remove_all(directory);
+}
+
+// Two runs that add rows to one map file: the second, merging what the file holds before it
+// writes, keeps the first's rows; an incomplete row of its own is replaced by a complete
+// stored one, and a row it has is not duplicated.
+TEST(LatticeStrengthMap, RowsStoredByAnotherRunAreMergedNotLost) {
+  StandIn model;
+  auto measure = [&](const LatticeMaterial& m, int r) { return model(m, r); };
+  LatticeStrengthMap first, second;
+  MeasureLatticeMapRows({0.15}, measure, nullptr, &first);
+  MeasureLatticeMapRows({0.25, 0.35}, measure, nullptr, &second);
+  const size_t row = first.points.size();
+  second.points.pop_back();  // the 0.35 row incomplete
+  EXPECT_EQ(MergeLatticeMapRows(first, &second), 1);
+  EXPECT_EQ(second.Rows(), std::vector<double>({0.15, 0.25}));
+  EXPECT_EQ(second.points.size(), 3 * row - 1);
+  EXPECT_EQ(MergeLatticeMapRows(first, &second), 0);
+  LatticeStrengthMap complete;
+  MeasureLatticeMapRows({0.35}, measure, nullptr, &complete);
+  EXPECT_EQ(MergeLatticeMapRows(complete, &second), 1);
+  EXPECT_EQ(second.Rows(), std::vector<double>({0.15, 0.25, 0.35}));
+  EXPECT_EQ(second.points.size(), 3 * row);
+  EXPECT_TRUE(second.Covers(0.2));
+  // Another grid's rows are not merged.
+  LatticeStrengthMap other;
+  MeasureLatticeMapRows({0.05}, measure, nullptr, &other);
+  other.design.friction_angles_deg = {10.0, 30.0};
+  EXPECT_EQ(MergeLatticeMapRows(other, &second), 0);
 }
 
 }  // namespace

@@ -348,6 +348,7 @@ TEST_F(RunTestCommand, LatticeBadInputWritesNothing) {
       {kLatticeMaterial, "kind = \"ucs\"\npause_on_breakage = false\n", "pause_on_breakage"},
       {kLatticeMaterial, "kind = \"ucs\"\nplaten_zone = 0.5\n", "platen_zone"},
       {kLatticeMaterial, "kind = \"brazilian\"\nwave_share = 1.5\n", "wave_share"},
+      {kLatticeMaterial, "kind = \"brazilian\"\nloading_arc = 90\n", "loading_arc"},
       {"youngs_modulus = 30e9\npoisson_ratio = 0.25\ntensile_strength = 8e6\ndensity = 2650\n", "kind = \"ucs\"\n",
        "cohesion"},
       {"youngs_modulus = 30e9\npoisson_ratio = 0.6\ntensile_strength = 8e6\ncohesion = 25e6\ndensity = 2650\n",
@@ -365,8 +366,8 @@ TEST_F(RunTestCommand, LatticeBadInputWritesNothing) {
     EXPECT_NE(r.output.find(c.words), std::string::npos) << r.output;
     EXPECT_TRUE(MissingOrEmpty(dir / "out"));
   }
-  // platen_zone and wave_share belong to the lattice: refused with bonded particles.
-  for (const std::string key : {"platen_zone", "wave_share"}) {
+  // platen_zone, wave_share and loading_arc belong to the lattice: refused with bonded particles.
+  for (const std::string key : {"platen_zone", "wave_share", "loading_arc"}) {
     const fs::path dir = Scratch("lattice_zone");
     const Result r = RunTest(Scene(dir, "kind = \"ucs\"\n" + key + " = 0.1\n").string() + " --output " +
                              (dir / "out").string());
