@@ -266,7 +266,8 @@ LabTestResult RunLatticeTestAtRate(const Packing<2>& packing, const LatticeMater
   const bool arc = !ucs && arc_half_angle > 0.0;
   const std::array<Jaw, 2> jaws = arc ? ArcJaws(specimen, domain, arc_half_angle) : std::array<Jaw, 2>{};
   std::array<double, 2> jaw_stiffness{0.0, 0.0};
-  for (int j = 0; arc && j < 2; ++j) jaw_stiffness[j] = platen_stiffness * static_cast<double>(jaws[j].nodes.size());
+  for (int j = 0; arc && j < 2; ++j)
+    jaw_stiffness[j] = platen_stiffness * static_cast<double>(jaws[j].nodes.size());
 
   // Time step: the lattice's certified limit, with the platen penalty added by Weyl's
   // inequality (lambda_max(A + B) <= lambda_max(A) + lambda_max(B)).
@@ -311,7 +312,8 @@ LabTestResult RunLatticeTestAtRate(const Packing<2>& packing, const LatticeMater
   result.time_step_s = dt;
   result.critical_time_step_s = critical;
   result.strain_limit = strain_limit;
-  result.stages = {"lattice_forces", "triangle_failure", ucs ? "glued_platens" : arc ? "pressure_jaws" : "penalty_platens", "local_damping",
+  result.stages = {"lattice_forces", "triangle_failure",
+                   ucs ? "glued_platens" : arc ? "pressure_jaws" : "penalty_platens", "local_damping",
                    "central_differences"};
 
   std::vector<char> prescribed_y(n, 0), held_x(n, 0);
@@ -443,10 +445,12 @@ LabTestResult RunLatticeTestAtRate(const Packing<2>& packing, const LatticeMater
       for (int j = 0; j < 2; ++j) {
         const Jaw& jaw = jaws[j];
         double penetration = travel * jaw.reach;
-        for (size_t k = 0; k < jaw.nodes.size(); ++k) penetration -= jaw.weights[k] * jaw.inward[k].dot(u[jaw.nodes[k]]);
+        for (size_t k = 0; k < jaw.nodes.size(); ++k)
+          penetration -= jaw.weights[k] * jaw.inward[k].dot(u[jaw.nodes[k]]);
         if (penetration <= 0.0) continue;
         const double force = jaw_stiffness[j] * penetration;
-        for (size_t k = 0; k < jaw.nodes.size(); ++k) f[jaw.nodes[k]] += jaw.weights[k] * force * jaw.inward[k];
+        for (size_t k = 0; k < jaw.nodes.size(); ++k)
+          f[jaw.nodes[k]] += jaw.weights[k] * force * jaw.inward[k];
         (j == 0 ? force_top : force_bottom) += force * jaw.reach;
         platen_elastic += 0.5 * jaw_stiffness[j] * penetration * penetration;
       }
