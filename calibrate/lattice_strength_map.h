@@ -5,7 +5,7 @@
 // specimens. The lattice is elastic-brittle and quasi-static at its capped rate
 // (lab/lattice_lab_test.h), so UCS / c and sigma_B / sigma_t depend on s, phi and nu, and
 // only weakly on the strain scale c / E (docs/calibration.md, "The lattice's strength map":
-// a few per cent in the UCS, up to about 10 % in the Brazilian strength between c / E of
+// a few per cent in the UCS, 0.3 % in the Brazilian strength between c / E of
 // 2.5e-4 and 2e-3); the map is measured at c / E = 1e-3 and the rounds correct the rest.
 //
 // A lattice calibration reads from it, before round 1, where the target's UCS / sigma_t lies

@@ -383,8 +383,6 @@ void ReadTest(const toml::table* table, const std::string& source, LabScene* sce
   }
   std::string error;
   if (!o.IsValid(&error)) throw InputError(t.where() + ": " + InUserTerms(error, kTestKeys));
-  // The lattice's keys, checked here so that a bad one is named before the specimen is made.
-  if (!scene->lattice_protocol.IsValid(&error)) throw InputError(t.where() + ": " + error);
 }
 
 void ReadOutput(const toml::table* table, const std::string& source, LabOutputOptions* output) {
@@ -461,6 +459,12 @@ LabScene ParseLabScene(const std::string& toml_text, const std::string& source) 
           throw InputError(source + " [test]: '" + std::string(key.str()) +
                            "' is a setting of the bonded tests; the lattice model does not use it");
       }
+    if (scene.test.kind != LabTestKind::kBrazilian && (scene.platen_zone_given || scene.loading_arc_given))
+      throw InputError(source + " [test]: '" + (scene.platen_zone_given ? "platen_zone" : "loading_arc") +
+                       "' is a setting of the Brazilian test; kind = '" + LabTestKindName(scene.test.kind) + "'");
+    // The lattice's keys, checked here so that a bad one is named before the specimen is made.
+    std::string error;
+    if (!scene.lattice_protocol.IsValid(&error)) throw InputError(source + " [test]: " + error);
   } else if (scene.platen_zone_given || scene.wave_share_given || scene.loading_arc_given) {
     throw InputError(source + " [test]: '" +
                      (scene.platen_zone_given ? "platen_zone" : scene.wave_share_given ? "wave_share" : "loading_arc") +

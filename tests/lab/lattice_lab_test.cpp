@@ -115,8 +115,8 @@ TEST(LatticeLab, BrazilianSplitsInTensionAtTheTrianglesStrength) {
 
 // A low-friction material whose triangles' sigma_t exceeds c (phi 5 degrees, sigma_t / c 2.5)
 // fails in shear. Under a point load the largest shear along the loaded diameter lies next to
-// the contacts, far above the centre's (1 / (4 sin alpha) times it for Hondros's pressure), so
-// the strength ratio UCS / sigma_B cannot fall below about 10; the loading arc moves the
+// the contacts, far above the centre's (1 / (4 sin alpha (1 - sin alpha)) times it for Hondros's
+// pressure), so the strength ratio UCS / sigma_B stays near 9-10; the loading arc moves the
 // failure to the centre region (measured: sigma_B 1.55 times the point load's, ratio 5.8
 // against 9.0).
 TEST(LatticeLab, TheLoadingArcLowersTheFloorOfTheStrengthRatio) {
