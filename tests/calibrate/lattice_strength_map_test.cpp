@@ -234,11 +234,13 @@ TEST(LatticeStrengthMap, RowsStoredByAnotherRunAreMergedNotLost) {
   EXPECT_EQ(second.Rows(), std::vector<double>({0.15, 0.25, 0.35}));
   EXPECT_EQ(second.points.size(), 3 * row);
   EXPECT_TRUE(second.Covers(0.2));
-  // Another grid's rows are not merged.
+  // Another grid's rows (complete on their own grid) are not merged.
   LatticeStrengthMap other;
-  MeasureLatticeMapRows({0.05}, measure, nullptr, &other);
   other.design.friction_angles_deg = {10.0, 30.0};
+  MeasureLatticeMapRows({0.05}, measure, nullptr, &other);
+  ASSERT_EQ(other.Rows(), std::vector<double>({0.05}));
   EXPECT_EQ(MergeLatticeMapRows(other, &second), 0);
+  EXPECT_EQ(second.Rows(), std::vector<double>({0.15, 0.25, 0.35}));
 }
 
 }  // namespace
