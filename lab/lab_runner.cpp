@@ -1,5 +1,7 @@
 #include "lab/lab_runner.h"
 
+#include <array>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -11,6 +13,7 @@
 #include "common/error.h"
 #include "solver/homogenisation.h"
 #include "solver/homogenisation_strain.h"
+#include "lab/brazilian_jaws.h"
 #include "lab/lab_measurement.h"
 #include "solver/scene_state.h"
 #include "solver/simulation.h"
@@ -61,12 +64,15 @@ class LabRun {
     ramp_s_ = options.velocity_ramp_transits * transit_s_;
     if (options.kind == LabTestKind::kPureShear && !specimen.strain_region.empty())
       hull_.emplace(packing.centres);  // the stress volume is the whole triangulated region
+    if (Jaws()) jaws_ = BrazilianJawArcs<Dim>(packing, options.loading_arc_deg);
   }
 
   LabTestResult Run();
 
  private:
   bool Confined() const { return options_.kind == LabTestKind::kConfinedCompression; }
+  // A Brazilian test with a loading arc: the platens are conforming jaws (brazilian_jaws.h).
+  bool Jaws() const { return options_.kind == LabTestKind::kBrazilian && options_.loading_arc_deg > 0.0; }
   bool WithLateralWalls() const {
     return Confined() || options_.kind == LabTestKind::kIsotropicCompression;
   }
@@ -122,6 +128,7 @@ class LabRun {
   long broken_total_ = 0;
   std::vector<BrokenBond> broken_list_;
   bool guard_budget_spent_ = false;
+  std::array<JawArc<Dim>, 2> jaws_;  // bottom, top (Jaws())
 };
 
 template <int Dim>
@@ -140,6 +147,11 @@ WallOptions<Dim> LabRun<Dim>::PlatenDrive(int index, double start_s) const {
                           : material_.normal_stiffness_n_per_m;
     w.tangential_stiffness_n_per_m = options_.platen_stiffness_ratio * kt;
     w.friction_coefficient = options_.platen_friction;
+  }
+  if (Jaws()) {
+    w.jaw_particles = jaws_[index].particles;
+    w.jaw_weights = jaws_[index].weights;
+    w.jaw_inward = jaws_[index].inward;
   }
   w.drive = WallDrive::kVelocity;
   w.velocity = speed_ * w.normal;  // towards the particles
@@ -588,9 +600,12 @@ void LabRun<Dim>::Measure(LabTestResult* r) const {
   r->confining_stress_pa = Confined() ? o.confining_stress_pa : 0.0;
   switch (o.kind) {
     case LabTestKind::kBrazilian:
-      // Labra (4.38): sigma_t = 2 F / (pi D t); 2D: F per unit thickness, t = 1 m.
-      r->tensile_strength_pa =
-          2.0 * at_peak.platen_force_n / (kPi * specimen_.width_m * specimen_.thickness_m);
+      // Labra (4.38): sigma_t = 2 F / (pi D t); 2D: F per unit thickness, t = 1 m; over a
+      // loading arc the centre's stress, Hondros's k times it.
+      r->tensile_strength_factor = HondrosFactor(Jaws() ? o.loading_arc_deg : 0.0);
+      r->loading_arc_deg = Jaws() ? o.loading_arc_deg : 0.0;
+      r->tensile_strength_pa = r->tensile_strength_factor * 2.0 * at_peak.platen_force_n /
+                               (kPi * specimen_.width_m * specimen_.thickness_m);
       r->peak_stress_pa = r->tensile_strength_pa;
       break;
     case LabTestKind::kIsotropicCompression:

@@ -125,6 +125,7 @@ const FieldNames kTestKeys = {
     {"confining_stress_pa", "confining_stress"},
     {"mass_scaling_budget", "mass_scaling"},
     {"time_step_safety_factor", "safety_factor"},
+    {"loading_arc_deg", "loading_arc"},
 };
 
 }  // namespace
@@ -465,10 +466,17 @@ LabScene ParseLabScene(const std::string& toml_text, const std::string& source) 
     // The lattice's keys, checked here so that a bad one is named before the specimen is made.
     std::string error;
     if (!scene.lattice_protocol.IsValid(&error)) throw InputError(source + " [test]: " + error);
-  } else if (scene.platen_zone_given || scene.wave_share_given || scene.loading_arc_given) {
-    throw InputError(source + " [test]: '" +
-                     (scene.platen_zone_given ? "platen_zone" : scene.wave_share_given ? "wave_share" : "loading_arc") +
+  } else if (scene.platen_zone_given || scene.wave_share_given) {
+    throw InputError(source + " [test]: '" + (scene.platen_zone_given ? "platen_zone" : "wave_share") +
                      "' is for model = \"lattice\" ([material])");
+  } else if (scene.loading_arc_given) {
+    // Bonded particles: the jaws of the Brazilian test (LabTestOptions::loading_arc_deg).
+    if (scene.test.kind != LabTestKind::kBrazilian)
+      throw InputError(source + " [test]: 'loading_arc' is a setting of the Brazilian test; kind = '" +
+                       LabTestKindName(scene.test.kind) + "'");
+    scene.test.loading_arc_deg = scene.lattice_protocol.loading_arc_deg;
+    std::string error;
+    if (!scene.test.IsValid(&error)) throw InputError(source + " [test]: " + InUserTerms(error, kTestKeys));
   }
   return scene;
 }

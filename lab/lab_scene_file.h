@@ -45,8 +45,10 @@
 //   strain_boundary_margin, linear_portion_low, servo_gain_fraction, servo_integral_transits,
 //   consolidation_tolerance, platen_stiffness_ratio, platen_friction, local_damping,
 //   dashpot_ratio, mass_scaling (mass_scaling_budget), quasi_static_tolerance, threads;
-//   lattice Brazilian: platen_zone (LatticeProtocol::platen_zone_share), loading_arc
-//   (LatticeProtocol::loading_arc_deg, the jaws' arc 2 alpha in degrees)
+//   Brazilian: loading_arc (the jaws' arc 2 alpha in degrees; bonded particles:
+//   LabTestOptions::loading_arc_deg, default 0 = flat platens; lattice:
+//   LatticeProtocol::loading_arc_deg, default 30); lattice Brazilian: platen_zone
+//   (LatticeProtocol::platen_zone_share)
 //   lattice: wave_share (the cap on the rate, LatticeProtocol::compression_wave_share or
 //   brazilian_wave_share by the kind; 0 = the loading-rate group as given)
 //

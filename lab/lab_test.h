@@ -15,7 +15,8 @@
 //    towards the other at the speed V; through the peak until the axial stress has fallen to
 //    post_peak_stress_fraction of it.
 //  - kBrazilian: a disc (2D) or cylinder (3D, axis z) between flat platens normal to y;
-//    sigma_t = 2 F / (pi D t) with F the peak platen force, t = 1 m in 2D (Labra (4.38)).
+//    sigma_t = 2 F / (pi D t) with F the peak platen force, t = 1 m in 2D (Labra (4.38));
+//    or between jaws with a loading arc (loading_arc_deg): sigma_t = k 2 F / (pi D t).
 //  - kConfinedCompression (biaxial (a)): a rectangle (box) whose lateral walls are
 //    servo-controlled (WallServo) to confining_stress_pa: first every wall holds it
 //    (consolidation), then the platens move at V; peak axial stress = strength at that
@@ -239,6 +240,12 @@ struct LabTestOptions {
   // frictionless, the uniform stress state E and nu assume).
   double platen_stiffness_ratio = 1.0;
   double platen_friction = 0.0;
+  // Brazilian test (other kinds do not use it: a protocol is shared by the UCS and the
+  // Brazilian test): the jaws' loading arc 2 alpha [degrees], in [0, 60]; 0: flat platens.
+  // Over an arc each jaw presses the disc's surface particles within alpha of its pole with a
+  // uniform radial pressure (brazilian_jaws.h), and sigma_t = k 2 F / (pi D t) with Hondros's
+  // k. Frictionless (platen_friction must be 0); a disc (2D) or cylinder (3D) only.
+  double loading_arc_deg = 0.0;
 
   // --- Damping (replaces the material's damping fields, header comment) ---
   double local_damping = 0.7;  // alpha_t = alpha_r, in [0, 1)
@@ -396,7 +403,7 @@ struct LabTestResult {
   double peak_force_n = 0.0;    // mean platen force at the peak
   double tensile_strength_pa = 0.0;  // BTS: k 2 F / (pi D t)
   // BTS: k, the centre's tensile stress per 2 F / (pi D t): 1 for flat platens (Labra (4.38)),
-  // Hondros's (sin 2 alpha - alpha) / sin alpha for the lattice's jaws with a loading arc 2 alpha.
+  // Hondros's (sin 2 alpha - alpha) / sin alpha for jaws with a loading arc 2 alpha.
   double tensile_strength_factor = 1.0;
   double loading_arc_deg = 0.0;  // BTS: the jaws' 2 alpha (0: flat platens)
   ElasticConstantsMeasured elastic;

@@ -1,5 +1,7 @@
 #include "lab/lattice_lab_test.h"
 
+#include "lab/brazilian_jaws.h"
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -597,8 +599,7 @@ LabTestResult RunLatticeTestAtRate(const Packing<2>& packing, const LatticeMater
       result.linear_elastic = LinearPortionElasticConstants<2>(result.curve, 1, options.linear_portion_low);
     } else {
       // The centre's tensile stress at the peak (Hondros 1959; k = 1 for a point load, Labra (4.38)).
-      const double a = arc_half_angle;
-      const double k = arc ? (std::sin(2.0 * a) - a) / std::sin(a) : 1.0;
+      const double k = HondrosFactor(arc ? protocol.loading_arc_deg : 0.0);
       result.tensile_strength_factor = k;
       result.loading_arc_deg = arc ? protocol.loading_arc_deg : 0.0;
       result.tensile_strength_pa = k * 2.0 * at.platen_force_n / (kPi * height * lattice.thickness_m);

@@ -58,8 +58,9 @@ ForceIterationSummary IterateDeformedContactForces(SceneState<Dim>& s,
   for (const WallState<Dim>& w : s.walls)
     for (size_t k = 0; k < w.particle.size(); ++k) {
       const int q = w.particle[k];
-      const Vector<Dim> force = -w.normal_elastic_force[k] * w.normal + w.tangential_force[k];
-      external[q].noalias() += (-p.radius[q] * w.normal) * force.transpose();
+      const Vector<Dim>& push = w.PushDirection(k);
+      const Vector<Dim> force = -w.normal_elastic_force[k] * push + w.tangential_force[k];
+      external[q].noalias() += (-p.radius[q] * push) * force.transpose();
     }
 
   const double kn = s.law.normal_stiffness;

@@ -39,8 +39,9 @@ Eigen::Matrix<double, Dim, Dim> SpecimenStress(const SceneState<Dim>& s, double 
     for (size_t k = 0; k < w.particle.size(); ++k) {
       const double fn = w.normal_elastic_force[k];  // <= 0: compression
       if (fn == 0.0) continue;
-      const Vector<Dim> force = -fn * w.normal + w.tangential_force[k];
-      sum.noalias() += (-s.particles.radius[w.particle[k]] * w.normal) * force.transpose();
+      const Vector<Dim>& push = w.PushDirection(k);
+      const Vector<Dim> force = -fn * push + w.tangential_force[k];
+      sum.noalias() += (-s.particles.radius[w.particle[k]] * push) * force.transpose();
     }
   }
   return 0.5 * (sum + sum.transpose()) / volume;

@@ -1,5 +1,7 @@
 #include "solver/scene_state.h"
 
+#include <type_traits>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -158,24 +160,25 @@ void RenumberParticles(SceneState<Dim>& s, const std::vector<int>& new_of_old,
   }
   std::sort(s.candidate_pairs.begin(), s.candidate_pairs.end());
 
-  // Wall candidates, sorted by particle with their forces.
+  // Wall candidates, sorted by particle with their forces (and a jaw's per-particle data).
   for (WallState<Dim>& w : s.walls) {
     const size_t count = w.particle.size();
     std::vector<std::pair<int, size_t>> by_particle(count);
     for (size_t k = 0; k < count; ++k) by_particle[k] = {new_of_old[w.particle[k]], k};
     std::sort(by_particle.begin(), by_particle.end());
+    auto permuted = [&](const auto& values) {
+      std::decay_t<decltype(values)> out(values.empty() ? 0 : count);
+      for (size_t k = 0; k < out.size(); ++k) out[k] = values[by_particle[k].second];
+      return out;
+    };
     std::vector<int> particle(count);
-    std::vector<double> normal_force(count);
-    std::vector<Vector<Dim>> tangential_force(w.tangential_force.empty() ? 0 : count);
-    for (size_t k = 0; k < count; ++k) {
-      const size_t old = by_particle[k].second;
-      particle[k] = by_particle[k].first;
-      normal_force[k] = w.normal_elastic_force[old];
-      if (!tangential_force.empty()) tangential_force[k] = w.tangential_force[old];
-    }
+    for (size_t k = 0; k < count; ++k) particle[k] = by_particle[k].first;
     w.particle = std::move(particle);
-    w.normal_elastic_force = std::move(normal_force);
-    w.tangential_force = std::move(tangential_force);
+    w.normal_elastic_force = permuted(w.normal_elastic_force);
+    w.tangential_force = permuted(w.tangential_force);
+    w.jaw_inward = permuted(w.jaw_inward);
+    w.jaw_weight = permuted(w.jaw_weight);
+    w.jaw_reference_centre = permuted(w.jaw_reference_centre);
   }
 
   // Loads (per-particle bookkeeping stays with its entry) and prescribed dofs.
@@ -274,7 +277,8 @@ std::size_t MemoryBytes(const SceneState<Dim>& s) {
            Bytes(s.external_flag);
   bytes += Bytes(s.candidate_pairs) + Bytes(s.constraints.slot_of_particle);
   for (const WallState<Dim>& w : s.walls)
-    bytes += Bytes(w.particle) + Bytes(w.normal_elastic_force) + Bytes(w.tangential_force) +
+    bytes += Bytes(w.particle) + Bytes(w.normal_elastic_force) + Bytes(w.tangential_force) + Bytes(w.jaw_inward) +
+             Bytes(w.jaw_weight) + Bytes(w.jaw_reference_centre) +
              Bytes(w.scratch_particle) + Bytes(w.scratch_normal_force) +
              Bytes(w.scratch_tangential_force);
   return bytes;

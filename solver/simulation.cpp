@@ -38,14 +38,7 @@ double ContactElasticEnergy(const SceneState<Dim>& s) {
   if (c.has_tangential() && kt > 0.0)
     for (int k = 0; k < c.size(); ++k) energy += 0.5 * c.tangential_force[k].squaredNorm() / kt;
   energy += BondMomentElasticEnergy<Dim>(c, s.particles.radius, s.law.bond_radius_ratio, kn, kt);
-  for (const WallState<Dim>& w : s.walls) {
-    const double k_wall = w.options.normal_stiffness_n_per_m;
-    const double kt_wall = w.options.tangential_stiffness_n_per_m;
-    for (size_t k = 0; k < w.particle.size(); ++k) {
-      energy += 0.5 * w.normal_elastic_force[k] * w.normal_elastic_force[k] / k_wall;
-      if (kt_wall > 0.0) energy += 0.5 * w.tangential_force[k].squaredNorm() / kt_wall;
-    }
-  }
+  for (const WallState<Dim>& w : s.walls) energy += w.ElasticEnergy();
   return energy;
 }
 
@@ -116,6 +109,8 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
   for (size_t k = 0; k < options.point_loads.size(); ++k)
     CheckIndices(options.point_loads[k].particles, count,
                  "point load " + std::to_string(k) + " (\"" + options.point_loads[k].name + "\")");
+  for (const WallOptions<Dim>& wall : options.walls)
+    CheckIndices(wall.jaw_particles, count, "wall \"" + wall.name + "\" jaw_particles");
   for (size_t k = 0; k < options.fixed_dofs.size(); ++k)
     CheckIndices(options.fixed_dofs[k].particles, count,
                  "fixed dofs " + std::to_string(k) + " (\"" + options.fixed_dofs[k].name + "\")");
@@ -173,6 +168,7 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
     w.options = o;
     w.normal = o.normal.normalized();
     w.point = o.point;
+    if (o.conforming()) StartJaw(w, s.particles.position);
     s.walls.push_back(std::move(w));
   }
   for (const PointLoad<Dim>& load : options.point_loads) {
@@ -232,7 +228,9 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
     for (const WallState<Dim>& w : s.walls) {
       const double k = w.options.normal_stiffness_n_per_m +
                        w.options.tangential_stiffness_n_per_m * (1.0 + kMassRadiusOverInertia);
-      for (const int q : w.particle) wall_stiffness[q] += k;
+      // A jaw: the spring K w_k on each of its particles bounds K w w^T (walls.h).
+      for (size_t j = 0; j < w.particle.size(); ++j)
+        wall_stiffness[w.particle[j]] += w.options.conforming() ? w.options.JawStiffness() * w.jaw_weight[j] : k;
       stiffest_spring_n_per_m_ =
           std::max({stiffest_spring_n_per_m_, w.options.normal_stiffness_n_per_m,
                     w.options.tangential_stiffness_n_per_m});
@@ -245,8 +243,10 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
     if (plan_.walls) {
       wall_normal_stiffness.assign(count, 0.0);
       for (const WallState<Dim>& w : s.walls)
-        for (const int q : w.particle)
-          wall_normal_stiffness[q] += w.options.normal_stiffness_n_per_m;
+        for (size_t j = 0; j < w.particle.size(); ++j)
+          wall_normal_stiffness[w.particle[j]] += w.options.conforming()
+                                                      ? w.options.JawStiffness() * w.jaw_weight[j]
+                                                      : w.options.normal_stiffness_n_per_m;
     }
     EstimateDdemLagFactor<Dim>(s.particles, initial_pairs, material.normal_stiffness_n_per_m,
                                s.compliance, wall_normal_stiffness, &critical_);
@@ -756,10 +756,12 @@ void Simulation<Dim>::SetWallOptions(int index, const WallOptions<Dim>& options)
   if (options.normal_stiffness_n_per_m != old.normal_stiffness_n_per_m ||
       options.tangential_stiffness_n_per_m != old.tangential_stiffness_n_per_m ||
       options.friction_coefficient != old.friction_coefficient ||
-      (options.drive == WallDrive::kForce) != (old.drive == WallDrive::kForce))
+      (options.drive == WallDrive::kForce) != (old.drive == WallDrive::kForce) ||
+      options.jaw_particles != old.jaw_particles || options.jaw_weights != old.jaw_weights ||
+      options.jaw_inward != old.jaw_inward)
     throw InputError("SetWallOptions: wall \"" + old.name +
-                     "\" may change its drive, but not its stiffnesses, friction or mass "
-                     "(force drive), which bound the time step");
+                     "\" may change its drive, but not its stiffnesses, friction, mass "
+                     "(force drive) or jaw, which bound the time step");
   for (const auto& pair : options.servo.area_wall_pairs)
     for (const int other : pair) wall(other);  // throws for an index out of range
   w.options = options;

@@ -57,6 +57,11 @@ LinearisedNetwork<Dim>::LinearisedNetwork(const Packing<Dim>& packing,
       if (p < 0 || p >= count)
         throw InputError("fixed dofs \"" + fixed.name + "\": particle index " + std::to_string(p) +
                          " is outside [0, " + std::to_string(count - 1) + "]");
+  for (const WallOptions<Dim>& wall : scene.walls)
+    for (const int p : wall.jaw_particles)
+      if (p < 0 || p >= count)
+        throw InputError("wall \"" + wall.name + "\" jaw_particles: particle index " + std::to_string(p) +
+                         " is outside [0, " + std::to_string(count - 1) + "]");
 
   // Internally the particles are renumbered along a Z-order (Morton) curve of cells of about
   // two mean radii: the products then read the unknowns of neighbours from nearby memory.
@@ -93,6 +98,8 @@ LinearisedNetwork<Dim>::LinearisedNetwork(const Packing<Dim>& packing,
   SceneOptions<Dim> sorted_scene = scene;
   for (FixedDofs<Dim>& fixed : sorted_scene.fixed_dofs)
     for (int& p : fixed.particles) p = internal[p];
+  for (WallOptions<Dim>& wall : sorted_scene.walls)
+    for (int& p : wall.jaw_particles) p = internal[p];
   Build(sorted, sorted_scene, wall_reach_m);
 }
 
@@ -165,6 +172,20 @@ void LinearisedNetwork<Dim>::Build(const Packing<Dim>& packing, const SceneOptio
       wall_dof_.push_back(-1);
       wall_normal_.push_back(normal);
       wall_node_links_.emplace_back();
+    }
+    if (wall.conforming()) {
+      // A jaw's K w w^T is bounded by the spring K w_k on each of its particles along n_k
+      // (walls.h); frictionless and velocity-driven: to ground.
+      for (size_t j = 0; j < wall.jaw_particles.size(); ++j) {
+        const int p = wall.jaw_particles[j];
+        const double k = wall.JawStiffness() * wall.jaw_weights[j];
+        add_link(p, -1, Vector<Dim>(-wall.jaw_inward[j]), k, 0.0);
+        ++links_of[p];
+        ++wall_links_;
+        if (wall_stiffness_.empty()) wall_stiffness_.assign(count, 0.0);
+        wall_stiffness_[original_index_[p]] += k;
+      }
+      continue;
     }
     for (int p = 0; p < count; ++p) {
       const double gap = (packing.centres[p] - wall.point).dot(normal) - radius_[p];

@@ -47,6 +47,26 @@ bool WallOptions<Dim>::IsValid(std::string* error) const {
                   " is not allowed: a force-driven wall needs a finite mass > 0");
     if (!std::isfinite(applied_force_n)) return fail("applied_force_n is not finite");
   }
+  if (conforming()) {
+    const size_t n = jaw_particles.size();
+    if (jaw_weights.size() != n || jaw_inward.size() != n)
+      return fail("jaw_weights and jaw_inward must have one entry per jaw particle (" + std::to_string(n) + ")");
+    if (drive != WallDrive::kVelocity || tangential_stiffness_n_per_m > 0.0)
+      return fail("a conforming jaw is velocity-driven and frictionless");
+    double total = 0.0;
+    for (size_t k = 0; k < n; ++k) {
+      if (!(jaw_weights[k] > 0.0) || !std::isfinite(jaw_weights[k]))
+        return fail("jaw_weights[" + std::to_string(k) + "] = " + number(jaw_weights[k]) + " must be finite and > 0");
+      if (!jaw_inward[k].allFinite() || std::abs(jaw_inward[k].norm() - 1.0) > 1e-9)
+        return fail("jaw_inward[" + std::to_string(k) + "] must be a unit vector");
+      total += jaw_weights[k];
+    }
+    if (std::abs(total - 1.0) > 1e-9) return fail("jaw_weights sum to " + number(total) + ", not 1");
+    std::vector<int> sorted = jaw_particles;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+      return fail("jaw_particles holds a particle twice");
+  }
   if (drive == WallDrive::kServo) {
     if (!(servo.stress_pa >= 0.0) || !std::isfinite(servo.stress_pa))
       return fail("servo.stress_pa = " + number(servo.stress_pa) +
@@ -85,7 +105,76 @@ double ServoTargetForce(const SceneState<Dim>& s, const WallServo& servo) {
   return servo.stress_pa * area;
 }
 
+// A conforming jaw's forces at t_n (walls.h): F = K max(p, 0) shared along the n_k.
+template <int Dim>
+Vector<Dim> JawForces(SceneState<Dim>& s, WallState<Dim>& w, bool deformable, WallPassTotals* totals) {
+  const ParticleArrays<Dim>& p = s.particles;
+  const int count = static_cast<int>(w.particle.size());
+  double penetration = w.jaw_travel_m * w.jaw_reach;
+  for (int k = 0; k < count; ++k) {
+    const int q = w.particle[k];
+    const Vector<Dim>& n = w.jaw_inward[k];
+    double approach = n.dot(p.position[q] - w.jaw_reference_centre[k]);
+    // The surface point s = -R n moves by eps s: towards the jaw by R n.eps.n.
+    if (deformable) approach -= p.radius[q] * QuadraticForm(p.strain[q], n);
+    penetration -= w.jaw_weight[k] * approach;
+  }
+  w.jaw_penetration_m = penetration;
+  const double force = w.options.JawStiffness() * std::max(penetration, 0.0);
+  Vector<Dim> force_on_wall = Vector<Dim>::Zero();
+  for (int k = 0; k < count; ++k) {
+    const int q = w.particle[k];
+    const double share = force * w.jaw_weight[k];
+    w.normal_elastic_force[k] = -share;
+    if (share == 0.0) continue;
+    const Vector<Dim> f = share * w.jaw_inward[k];
+    s.external_force[q] += f;  // along n through the centre: no torque
+    if (deformable) s.external_moment[q].noalias() += (-p.radius[q] * w.jaw_inward[k]) * f.transpose();
+    force_on_wall -= f;
+    totals->max_force_n = std::max(totals->max_force_n, share);
+  }
+  return force_on_wall;
+}
+
 }  // namespace
+
+template <int Dim>
+double WallState<Dim>::ElasticEnergy() const {
+  if (options.conforming()) {
+    const double p = std::max(jaw_penetration_m, 0.0);
+    return 0.5 * options.JawStiffness() * p * p;
+  }
+  const double k_wall = options.normal_stiffness_n_per_m, kt_wall = options.tangential_stiffness_n_per_m;
+  double energy = 0.0;
+  for (size_t k = 0; k < particle.size(); ++k) {
+    energy += 0.5 * normal_elastic_force[k] * normal_elastic_force[k] / k_wall;
+    if (kt_wall > 0.0) energy += 0.5 * tangential_force[k].squaredNorm() / kt_wall;
+  }
+  return energy;
+}
+
+template <int Dim>
+void StartJaw(WallState<Dim>& w, const std::vector<Vector<Dim>>& centres) {
+  const WallOptions<Dim>& o = w.options;
+  std::vector<size_t> order(o.jaw_particles.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return o.jaw_particles[a] < o.jaw_particles[b]; });
+  w.particle.clear();
+  w.jaw_inward.clear();
+  w.jaw_weight.clear();
+  w.jaw_reference_centre.clear();
+  w.jaw_reach = 0.0;
+  for (const size_t k : order) {
+    w.particle.push_back(o.jaw_particles[k]);
+    w.jaw_inward.push_back(o.jaw_inward[k]);
+    w.jaw_weight.push_back(o.jaw_weights[k]);
+    w.jaw_reference_centre.push_back(centres[o.jaw_particles[k]]);
+    w.jaw_reach += o.jaw_weights[k] * o.jaw_inward[k].dot(w.normal);
+  }
+  w.normal_elastic_force.assign(w.particle.size(), 0.0);
+  w.tangential_force.assign(w.particle.size(), Vector<Dim>::Zero());
+  w.jaw_travel_m = w.jaw_penetration_m = 0.0;
+}
 
 template <int Dim>
 void WallPass(SceneState<Dim>& s, bool deformable, bool rotation, bool dashpots,
@@ -105,7 +194,8 @@ void WallPass(SceneState<Dim>& s, bool deformable, bool rotation, bool dashpots,
         dashpots ? 2.0 * s.material.normal_dashpot_ratio * std::sqrt(k_wall) : 0.0;
     Vector<Dim> force_on_wall = Vector<Dim>::Zero();
     int touching = 0;
-    const int count = static_cast<int>(w.particle.size());
+    const int count = o.conforming() ? 0 : static_cast<int>(w.particle.size());
+    if (o.conforming()) force_on_wall = JawForces(s, w, deformable, totals);
     for (int k = 0; k < count; ++k) {
       const int q = w.particle[k];
       const double r = p.radius[q];
@@ -204,7 +294,10 @@ void WallPass(SceneState<Dim>& s, bool deformable, bool rotation, bool dashpots,
       totals->damping_dissipation_j -= damping * 0.5 * (speed + new_speed) * dt;
     }
     w.point += w.velocity * dt;
-    w.displacement_since_search += w.velocity.norm() * dt;
+    if (o.conforming())
+      w.jaw_travel_m += w.velocity.dot(normal) * dt;  // its particles are fixed: no search
+    else
+      w.displacement_since_search += w.velocity.norm() * dt;
   }
 }
 
@@ -212,6 +305,7 @@ template <int Dim>
 void RebuildWallCandidates(SceneState<Dim>& s, double skin) {
   const ParticleArrays<Dim>& p = s.particles;
   for (WallState<Dim>& w : s.walls) {
+    if (w.options.conforming()) continue;
     w.scratch_particle.clear();
     w.scratch_normal_force.clear();
     w.scratch_tangential_force.clear();
@@ -235,6 +329,10 @@ void RebuildWallCandidates(SceneState<Dim>& s, double skin) {
 
 template void WallPass<2>(SceneState<2>&, bool, bool, bool, WallPassTotals*);
 template void WallPass<3>(SceneState<3>&, bool, bool, bool, WallPassTotals*);
+template void StartJaw<2>(WallState<2>&, const std::vector<Vector<2>>&);
+template void StartJaw<3>(WallState<3>&, const std::vector<Vector<3>>&);
+template struct WallState<2>;
+template struct WallState<3>;
 template void RebuildWallCandidates<2>(SceneState<2>&, double);
 template void RebuildWallCandidates<3>(SceneState<3>&, double);
 

@@ -8,6 +8,17 @@
 // and the normal dashpot of the scene (ratio xi_n of 2 sqrt(m k_wall)). The wall force on
 // a particle enters its DDEM stress like a contact force at the contact point s = -R normal.
 //
+// A wall may instead be a conforming jaw (the loading arc of a Brazilian test): it presses
+// a fixed set of surface particles along their own inward directions n_k with the shares
+// w_k (sum 1) of one force F = K max(p, 0), a uniform radial pressure over the arc (Hondros
+// 1959). p is the jaw's penetration, travel C - sum w_k n_k . (u_k + eps_k s_k): a rigid jaw
+// shaped to the arc and moved by `travel` along its normal moves the arc point k by travel
+// (n_k . normal) along n_k; C = sum w_k n_k . normal; u_k is the particle's displacement,
+// s_k = -R_k n_k its loaded surface point (DDEM: the point moves by eps s, Madan (2.52)).
+// K = k_wall x the number of jaw particles, so each particle meets about one wall spring;
+// K w w^T <= K diag(w) (sum w = 1) bounds it for the time step by a spring K w_k on each.
+// The jaw's energy is 1/2 K p^2, its reaction F C, its drive work that of a wall.
+//
 // Walls translate only. A velocity-driven wall follows its prescribed velocity; a
 // force-driven wall has a mass and moves along its normal under the applied force and the
 // particles' reaction; a servo-controlled wall (the lateral walls of a confined biaxial
@@ -78,7 +89,17 @@ struct WallOptions {
   // kServo: the stress controller.
   WallServo servo;
 
+  // A conforming jaw (header): its particles (indices of the packing, distinct), their force
+  // shares (> 0, summing to 1) and inward unit directions. Empty: a plane wall. A jaw is
+  // frictionless and velocity-driven.
+  std::vector<int> jaw_particles;
+  std::vector<double> jaw_weights;
+  std::vector<Vector<Dim>> jaw_inward;
+
   bool friction() const { return tangential_stiffness_n_per_m > 0.0 && friction_coefficient > 0.0; }
+  bool conforming() const { return !jaw_particles.empty(); }
+  // The jaw's stiffness K [N/m] (header).
+  double JawStiffness() const { return normal_stiffness_n_per_m * static_cast<double>(jaw_particles.size()); }
   bool IsValid(std::string* error) const;
 };
 
@@ -107,8 +128,24 @@ struct WallState {
   std::vector<double> scratch_normal_force;
   std::vector<Vector<Dim>> scratch_tangential_force;
 
+  // A conforming jaw: per candidate (`particle` holds the jaw's particles, fixed), the
+  // inward direction n_k and force share w_k, the particle's centre at t = 0, and the jaw's
+  // reach C, travel (along `normal` since t = 0) and penetration p at the last evaluation.
+  std::vector<Vector<Dim>> jaw_inward;
+  std::vector<double> jaw_weight;
+  std::vector<Vector<Dim>> jaw_reference_centre;
+  double jaw_reach = 0.0;
+  double jaw_travel_m = 0.0;
+  double jaw_penetration_m = 0.0;
+
   // The compressive reaction, -force_on_wall . normal (>= 0 when pushed) [N].
   double NormalReaction() const { return -force_on_wall.dot(normal); }
+  // The direction the wall pushes candidate k: the plane's normal, or a jaw's n_k. The
+  // contact point is at -R times it from the particle's centre; the force on the particle is
+  // -normal_elastic_force[k] times it plus the tangential force.
+  const Vector<Dim>& PushDirection(size_t k) const { return jaw_inward.empty() ? normal : jaw_inward[k]; }
+  // The energy of the wall's springs [J].
+  double ElasticEnergy() const;
 };
 
 struct WallPassTotals {
@@ -131,8 +168,13 @@ template <int Dim>
 void WallPass(SceneState<Dim>& state, bool deformable, bool rotation, bool dashpots,
               WallPassTotals* totals);
 
-// Rebuilds each wall's candidate list (particles whose surface is within `skin` of the
-// plane), carrying the tangential history of candidates that stay.
+// A jaw's state at t = 0 from its options and the particles' centres: its particles as
+// the candidates (sorted), their directions, shares and reference centres, and its reach.
+template <int Dim>
+void StartJaw(WallState<Dim>& wall, const std::vector<Vector<Dim>>& centres);
+
+// Rebuilds each plane wall's candidate list (particles whose surface is within `skin` of the
+// plane), carrying the tangential history of candidates that stay; a jaw keeps its own.
 template <int Dim>
 void RebuildWallCandidates(SceneState<Dim>& state, double skin);
 

@@ -323,6 +323,28 @@ const char* kLatticeMaterial =
 
 }  // namespace
 
+// The bonded Brazilian test's jaws: loading_arc out of range, with platen friction, or on a
+// specimen that is not a disc: exit 2 naming the cause, nothing written.
+TEST_F(RunTestCommand, BondedLoadingArcBadInputWritesNothing) {
+  const struct {
+    std::string test, words;
+  } cases[] = {
+      {"kind = \"brazilian\"\nloading_arc = 70\n", "loading_arc"},
+      {"kind = \"brazilian\"\nloading_arc = -5\n", "loading_arc"},
+      {"kind = \"brazilian\"\nloading_arc = 30\nplaten_friction = 0.3\n", "platen_friction"},
+      {"kind = \"ucs\"\nloading_arc = 30\n", "setting of the Brazilian test"},
+      {"kind = \"brazilian\"\nloading_arc = 30\n", "disc"},  // the packing is a rectangle
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.test);
+    const fs::path dir = Scratch("bonded_arc");
+    const Result r = RunTest(Scene(dir, c.test).string() + " --output " + (dir / "out").string());
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find(c.words), std::string::npos) << r.output;
+    EXPECT_TRUE(MissingOrEmpty(dir / "out"));
+  }
+}
+
 TEST_F(RunTestCommand, LatticeUcsWritesTheReportAndFiles) {
   const fs::path dir = Scratch("lattice");
   const fs::path out = dir / "out";
@@ -368,7 +390,8 @@ TEST_F(RunTestCommand, LatticeBadInputWritesNothing) {
     EXPECT_NE(r.output.find(c.words), std::string::npos) << r.output;
     EXPECT_TRUE(MissingOrEmpty(dir / "out"));
   }
-  // platen_zone, wave_share and loading_arc belong to the lattice: refused with bonded particles.
+  // platen_zone and wave_share belong to the lattice: refused with bonded particles; so is
+  // loading_arc outside a Brazilian test.
   for (const std::string key : {"platen_zone", "wave_share", "loading_arc"}) {
     const fs::path dir = Scratch("lattice_zone");
     const Result r = RunTest(Scene(dir, "kind = \"ucs\"\n" + key + " = 0.1\n").string() + " --output " +
