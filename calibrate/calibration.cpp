@@ -117,6 +117,7 @@ nlohmann::json ProtocolJson(const LabTestOptions& t) {
   if (t.mass_scaling_budget > 0.0) j["mass_scaling_budget"] = t.mass_scaling_budget;
   if (t.time_step_safety_factor != LabTestOptions().time_step_safety_factor)
     j["time_step_safety_factor"] = t.time_step_safety_factor;
+  if (t.loading_arc_deg > 0.0) j["loading_arc_deg"] = t.loading_arc_deg;  // flat platens: as before
   return j;
 }
 

@@ -53,7 +53,10 @@ void WriteScene(std::ostream& out, const std::string& packing_file, const Materi
   out << "safety_factor = " << Exact(test.time_step_safety_factor) << "\n";
   out << "pause_kinetic_energy_ratio = " << Exact(test.pause_kinetic_energy_ratio) << "\n";
   out << "platen_stiffness_ratio = " << Exact(test.platen_stiffness_ratio) << "\n";
-  out << "platen_friction = " << Exact(test.platen_friction) << "\n\n";
+  out << "platen_friction = " << Exact(test.platen_friction) << "\n";
+  if (std::string(kind) == "brazilian" && test.loading_arc_deg > 0.0)
+    out << "loading_arc = " << Exact(test.loading_arc_deg) << "\n";
+  out << "\n";
   out << "[output]\nname = \"" << name << "\"\n";
 }
 

@@ -68,6 +68,7 @@ struct CommandLine {
   double friction = 0.8;
   double bond_range = 1.0;
   std::optional<double> rate_group;
+  std::optional<double> loading_arc;  // default: 0 bonded (flat platens), 30 lattice
   std::string lattice_map = "target";
   std::optional<int> sweep_levels;
   std::string honour = "compressive";
@@ -85,6 +86,7 @@ const FieldNames kOptionNames = {
     {"friction_coefficient", "--friction"},
     {"bond_range", "--bond-range"},
     {"loading_rate_group", "--rate-group"},
+    {"loading_arc_deg", "--loading-arc"},
     {"sweep_levels", "--sweep-levels"},
     {"workers", "--threads"},
     {"ucs_particles", "--count"},
@@ -317,10 +319,12 @@ int RunLattice(const TargetMaterial& target, const CommandLine& cl) {
   LatticeCalibrationOptions options;
   options.max_rounds = cl.rounds.value_or(options.max_rounds);
   if (cl.rate_group) options.test.loading_rate_group = *cl.rate_group;
+  if (cl.loading_arc) options.protocol.loading_arc_deg = *cl.loading_arc;
   options.progress = progress.Callback();
   std::string error;
   if (!options.IsValid(&error)) throw InputError(InUserTerms(error, {{"max_rounds", "--rounds"},
-                                                                    {"loading_rate_group", "--rate-group"}}));
+                                                                    {"loading_rate_group", "--rate-group"},
+                                                                    {"loading_arc", "--loading-arc"}}));
   if (cl.lattice_map != "target" && cl.lattice_map != "all" && cl.lattice_map != "none")
     throw InputError("--lattice-map = '" + cl.lattice_map + "', allowed target, all or none");
   if (!cl.maps_file.empty()) LoadLatticeStrengthMap(cl.maps_file);  // not a lattice map: fails now
@@ -362,6 +366,8 @@ int RunLattice(const TargetMaterial& target, const CommandLine& cl) {
            std::filesystem::path(packing).filename().string() + "\"\n\n" + summary.MaterialToml() +
            "\n[test]\nkind = \"" + kind + "\"\n" +
            (cl.rate_group ? "loading_rate_group = " + Number(*cl.rate_group, 17) + "\n" : std::string()) +
+           (cl.loading_arc && std::string(kind) == "brazilian" ? "loading_arc = " + Number(*cl.loading_arc, 17) + "\n"
+                                                              : std::string()) +
            "\n[output]\nname = \"" + cl.name + "_" + kind + "\"\n";
   };
   nlohmann::json report = summary.ToJson();
@@ -440,6 +446,9 @@ int main(int argc, char** argv) {
                  "levels of kt/kn in the map sweep (Rt/Rn and kn/(Ep l): one fewer, at least 3), 3 to 12; "
                  "default 4 (rigid), 3 (DDEM)");
   app.add_option("--rate-group", cl.rate_group, "loading-rate group V / sqrt(kn/rho), default: run-test's");
+  app.add_option("--loading-arc", cl.loading_arc,
+                 "Brazilian test: the jaws' loading arc 2 alpha in degrees, 0 to 60 (0: flat platens); default 0 for "
+                 "bonded particles (the shipped maps), 30 for the lattice");
   app.add_option("--honour", cl.honour,
                  "strength matched when sigma_c/sigma_t is unreachable: compressive | tensile, default compressive");
   app.add_option("--output", cl.output, "output directory (created), default out/calibration");
@@ -487,6 +496,7 @@ int main(int argc, char** argv) {
     options.friction_coefficient = cl.friction;
     options.bond_range = cl.bond_range;
     if (cl.rate_group) options.test.loading_rate_group = *cl.rate_group;
+    if (cl.loading_arc) options.test.loading_arc_deg = *cl.loading_arc;
     if (cl.sweep_levels) {
       if (*cl.sweep_levels < 3 || *cl.sweep_levels > 12)
         throw InputError("--sweep-levels = " + std::to_string(*cl.sweep_levels) + ", allowed 3 to 12");

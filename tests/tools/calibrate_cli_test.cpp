@@ -74,6 +74,9 @@ TEST(CalibrateToMaterialCommand, BadInputExitsWithTwoAndWritesNothing) {
       {good + o + " --rate-group 0", 2, "--rate-group"},
       {good + o + " --rounds 0", 2, "--rounds"},
       {good + o + " --bond-range 1.6", 2, "--bond-range"},
+      {good + o + " --loading-arc 70", 2, "--loading-arc"},
+      {good + o + " --loading-arc -1 --model lattice", 2, "--loading-arc"},
+      {good + o + " --loading-arc 10 --bond-range 1.6", 2, "--bond-range"},
       {good + o + " --seed -1", 2, "--seed"},
       {good + o + " --bogus", 2, "--bogus"},
       // Map locations and contents are checked before any specimen is generated.

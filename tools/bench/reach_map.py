@@ -18,6 +18,10 @@ Brazilian test; the point's (nu, UCS / sigma_t) goes into the map. The grids:
            0.9 x Rt/Rn 0.5, 1, 3.16, 10
   ddem     deformable particles, nu_p 0.45, kn/(Ep l) at 0.85 of the admissible bound of both
            specimens (rho(B) <= 0.9): kt/kn 0.05, 0.15, 0.3, 0.6 x Rt/Rn 1, 3.16, 10
+  rigid_jaws, ddem_jaws  the rigid and DDEM grids with the Brazilian test between jaws with a
+           30-degree loading arc (run-test's loading_arc; calibrate-to-material --loading-arc 30);
+           the UCS and nu of a point are taken from the flat-platen model's row of the same point
+           when this run or --reuse has it (the arc changes only the Brazilian test)
   lattice  the six-spring lattice, nu 0.05, 0.15, 0.25, 0.35, 0.45 x friction angle 10, 30,
            50 degrees x triangle sigma_t / c 0.05, 0.2, 2 (E and nu are inputs); with
            --lattice-map, the points of the calibrator's stored strength map of these specimens
@@ -50,14 +54,18 @@ MODELS = {
     "rigid": "rigid, contact bonds",
     "moment": "rigid, bonds with a moment (lambda 1)",
     "ddem": "DDEM (nu_p 0.45)",
+    "rigid_jaws": "rigid, contact bonds, Brazilian jaws 30 deg",
+    "ddem_jaws": "DDEM (nu_p 0.45), Brazilian jaws 30 deg",
     "lattice": "six-spring lattice",
 }
+LOADING_ARC = 30.0  # the jaws of the *_jaws models [degrees]
 
 
-def bonded_scene(packing, kind, material, name, elastic):
+def bonded_scene(packing, kind, material, name, elastic, loading_arc=0.0):
     lines = ["[specimen]", 'packing = "%s"' % packing, "scale_density = true", "", "[material]"]
     lines += ["%s = %r" % (k, v) for k, v in material.items()]
     lines += ["", "[test]", 'kind = "%s"' % kind, "threads = 1"]
+    lines += ["loading_arc = %g" % loading_arc] if loading_arc > 0 else []
     lines += ["strain_limit = 1.5e-3", "sample_interval = 50"] if elastic else ["strain_limit = 0.05"]
     lines += ["", "[output]", 'name = "%s"' % name, "pictures = false", "snapshots = false", ""]
     return "\n".join(lines)
@@ -85,15 +93,19 @@ def finish(process, directory, name, allowed=(0,)):
     return cb.summary(directory, name), None
 
 
-def strength_pair(build, packings, material, directory, tag, scene=bonded_scene):
-    """UCS and Brazilian strength at one point, the two tests at once."""
+def strength_pair(build, packings, material, directory, tag, scene=bonded_scene, loading_arc=0.0, ucs=None):
+    """UCS and Brazilian strength at one point, the two tests at once (the UCS not run when
+    given: a point measured with flat platens)."""
+    u = None
     if scene is bonded_scene:
-        u = launch(build, bonded_scene(packings[0], "ucs", material, "ucs_" + tag, False), directory, "ucs_" + tag)
-        b = launch(build, bonded_scene(packings[1], "brazilian", material, "bts_" + tag, False), directory, "bts_" + tag)
+        if ucs is None:
+            u = launch(build, bonded_scene(packings[0], "ucs", material, "ucs_" + tag, False), directory, "ucs_" + tag)
+        b = launch(build, bonded_scene(packings[1], "brazilian", material, "bts_" + tag, False, loading_arc),
+                   directory, "bts_" + tag)
     else:
         u = launch(build, lattice_scene(packings[0], "ucs", material, "ucs_" + tag), directory, "ucs_" + tag)
         b = launch(build, lattice_scene(packings[1], "brazilian", material, "bts_" + tag), directory, "bts_" + tag)
-    ru, eu = finish(u, directory, "ucs_" + tag)
+    ru, eu = finish(u, directory, "ucs_" + tag) if u else ({"peak_stress_pa": ucs}, None)
     rb, eb = finish(b, directory, "bts_" + tag)
     if eu or eb:
         return None, "UCS %s, Brazilian %s" % (eu or "ok", eb or "ok")
@@ -144,10 +156,18 @@ def lattice_map_rows(path):
     return rows
 
 
-def measure(build, packings, models, out, quick=False):
-    """Every point of every model's grid: rows of (model, elastic set, strength set, nu, ratio)."""
+def measure(build, packings, models, out, quick=False, known=()):
+    """Every point of every model's grid: rows of (model, elastic set, strength set, nu, ratio).
+    `known`: rows of an earlier run, whose flat-platen UCS and nu the *_jaws models take."""
     rows = []
     runs = os.path.join(out, "runs")
+
+    def flat_row(model, s, x):
+        """The flat-platen model's measured row of this point (this run first), or None."""
+        for r in list(rows) + list(known):
+            if r["model"] == model and r.get("kt_over_kn") == s and r.get("rt_over_rn") == x and "ucs_pa" in r:
+                return r
+        return None
 
     def record(row, measured, start):
         strengths, error = measured
@@ -160,30 +180,40 @@ def measure(build, packings, models, out, quick=False):
         rows.append(row)
         report(row)
 
-    def bonded(model, stiffness_ratios, strength_ratios, extra):
+    def bonded(model, stiffness_ratios, strength_ratios, extra, flat_model=None):
+        arc = LOADING_ARC if flat_model else 0.0
         for s in ends(stiffness_ratios, quick):
             base = {"normal_stiffness": KN, "tangential_stiffness": s * KN, "friction_coefficient": 0.8,
                     "density": DENSITY}
             base.update(extra)
             tag = "%s_s%g" % (model, s)
-            nu = elastic_nu(build, packings[0], base, runs, tag)
+            flats = {x: flat_row(flat_model, s, x) if flat_model else None for x in ends(strength_ratios, quick)}
+            known_nu = [r["poisson_ratio"] for r in flats.values() if r]
+            nu = known_nu[0] if known_nu else elastic_nu(build, packings[0], base, runs, tag)
             for x in ends(strength_ratios, quick):
                 start = time.monotonic()
                 m = dict(base, bond_tensile_strength=RN, bond_shear_strength=x * RN)
+                flat = flats[x]
                 record({"model": model, "kt_over_kn": s, "rt_over_rn": x, "poisson_ratio": nu},
-                       strength_pair(build, packings, m, runs, "%s_x%g" % (tag, x)), start)
+                       strength_pair(build, packings, m, runs, "%s_x%g" % (tag, x), loading_arc=arc,
+                                     ucs=flat["ucs_pa"] if flat else None), start)
 
+    rigid_grid = ((0.1, 0.2, 0.4, 0.9), (0.25, 1.0, 3.16, 10.0, 30.0))
     if "rigid" in models:
-        bonded("rigid", (0.1, 0.2, 0.4, 0.9), (0.25, 1.0, 3.16, 10.0, 30.0), {})
+        bonded("rigid", *rigid_grid, {})
+    if "rigid_jaws" in models:
+        bonded("rigid_jaws", *rigid_grid, {}, flat_model="rigid")
     if "moment" in models:
         bonded("moment", (0.1, 0.2, 0.4, 0.9), (0.5, 1.0, 3.16, 10.0), {"bond_radius_ratio": 1.0})
-    if "ddem" in models:
+    for model in ("ddem", "ddem_jaws"):
+        if model not in models:
+            continue
         compliance = 0.85 * admissible_compliance(build, packings, 0.45, runs)
         extra = {"particle_youngs_modulus": KN / compliance, "particle_poisson_ratio": 0.45}
         for s in ends((0.05, 0.15, 0.3, 0.6), quick):
-            bonded("ddem", (s,), (1.0, 3.16, 10.0), dict(extra))
+            bonded(model, (s,), (1.0, 3.16, 10.0), dict(extra), flat_model="ddem" if model == "ddem_jaws" else None)
         for r in rows:
-            if r["model"] == "ddem":
+            if r["model"] == model:
                 r["kn_over_ep_l"] = compliance
     if "lattice" in models:
         cohesion = 30e6
@@ -278,7 +308,8 @@ def plot(table, rows, rocks, png):
     """Regions as filled polygons (lower envelope over nu, then the upper one back), the
     measured points, the target rectangle and the published rocks."""
     base = os.path.splitext(png)[0]
-    colours = {"rigid": "#4060a0", "moment": "#40a060", "ddem": "#d08020", "lattice": "#a040a0"}
+    colours = {"rigid": "#4060a0", "moment": "#40a060", "ddem": "#d08020", "rigid_jaws": "#20a0c0",
+               "ddem_jaws": "#c04020", "lattice": "#a040a0"}
     drawn = [m for m in MODELS if table.get(m)]
     with open(base + "_regions.dat", "w") as f, open(base + "_points.dat", "w") as g:
         for model in drawn:  # one block per model: gnuplot's index
@@ -351,13 +382,15 @@ def main():
 
     start = time.monotonic()
     measured = [m for m in models if not (m == "lattice" and args.lattice_map)]
-    rows = measure(build, packings, measured, out, args.quick)
+    earlier = []
+    if args.reuse:
+        with open(args.reuse) as f:
+            earlier = json.load(f)["points"]
+    rows = measure(build, packings, measured, out, args.quick, known=earlier)
     if "lattice" in models and args.lattice_map:
         rows += lattice_map_rows(args.lattice_map)
     reused = []
     if args.reuse:
-        with open(args.reuse) as f:
-            earlier = json.load(f)["points"]
         reused = sorted({r["model"] for r in earlier} - set(models), key=list(MODELS).index)
         rows = [r for r in earlier if r["model"] in reused] + rows
     table = regions(rows)
@@ -382,8 +415,8 @@ def main():
 
     md = ["# Reach map (2D, the calibrator's default specimens)", "",
           "Reproduce: `python3 tools/bench/reach_map.py --markdown tools/bench/reach_map.md "
-          "--picture docs/images/reach_map.png%s` (%s; every model measured: about 60 minutes on 2 cores, 25 of "
-          "them the lattice). Every point is the "
+          "--picture docs/images/reach_map.png%s` (%s; every model measured: about 75 minutes on 2 cores, 25 of "
+          "them the lattice, 12 the jaws models). Every point is the "
           "elastic run, the UCS and the Brazilian test of run-test on the 5,064-disc UCS square and the "
           "3,940-disc Brazilian disc; the grids are in the script's header." % (
               "".join(" --%s %s" % (k.replace("_", "-"), v) for k, v in (
