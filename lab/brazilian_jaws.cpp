@@ -58,9 +58,15 @@ std::array<JawArc<Dim>, 2> BrazilianJawArcs(const Packing<Dim>& packing, double 
     if (std::atan2(std::abs(r.x()), std::abs(r.y())) > alpha) continue;
     double share;
     if constexpr (Dim == 2) {
-      double gap = around[(k + 1) % m].first - around[(k + m - 1) % m].first;
-      if (gap <= 0.0) gap += 2.0 * kPi;
-      share = 0.5 * gap;
+      // Half the angle to each neighbour on the surface, clipped to the arc: the angles from
+      // the pole, unwrapped about this particle's.
+      const double pole = r.y() > 0.0 ? 0.5 * kPi : -0.5 * kPi;
+      auto from_pole = [&](double angle) { return std::remainder(angle - pole, 2.0 * kPi); };
+      const double here = from_pole(around[k].first);
+      const double before = here - std::abs(std::remainder(around[k].first - around[(k + m - 1) % m].first, 2.0 * kPi));
+      const double after = here + std::abs(std::remainder(around[(k + 1) % m].first - around[k].first, 2.0 * kPi));
+      share = std::min(alpha, 0.5 * (here + after)) - std::max(-alpha, 0.5 * (before + here));
+      if (!(share > 0.0)) continue;  // (m = 1: no neighbour; cannot happen on a disc's surface)
     } else {
       share = kPi * packing.radii[q] * packing.radii[q];
     }

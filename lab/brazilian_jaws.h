@@ -28,7 +28,7 @@ struct JawArc {
 // The surface particles (within 5 % of their radius of the disc's circle, or the cylinder's
 // mantle) whose centres lie within alpha = loading_arc_deg / 2 of the poles on the y axis:
 // [0] the bottom jaw's, [1] the top jaw's. 2D: each particle's share is half the angle to its
-// neighbours on the surface; 3D: its cross-section pi r^2 (the particles tile the mantle's
+// neighbours on the surface, clipped to the arc; 3D: its cross-section pi r^2 (the particles tile the mantle's
 // strip); then corrected to the nearest shares whose forces balance (no net lateral force;
 // in 3D, no moment about the centre). InputError if the domain is not a disc or cylinder, loading_arc_deg is outside
 // (0, 60], or an arc holds no surface particle.

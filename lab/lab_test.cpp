@@ -127,7 +127,7 @@ bool LabTestOptions::IsValid(std::string* error) const {
     return fail("platen_friction", platen_friction, ">= 0");
   if (!(loading_arc_deg >= 0.0 && loading_arc_deg <= 60.0))
     return fail("loading_arc_deg", loading_arc_deg, "in [0, 60] (degrees, the jaws' arc 2 alpha; 0: flat platens)");
-  if (loading_arc_deg > 0.0 && platen_friction > 0.0)
+  if (kind == LabTestKind::kBrazilian && loading_arc_deg > 0.0 && platen_friction > 0.0)
     return fail("platen_friction", platen_friction, "0 with a loading arc (the jaws press radially)");
   if (!(local_damping >= 0.0 && local_damping < 1.0))
     return fail("local_damping", local_damping, "in [0, 1)");

@@ -231,6 +231,9 @@ Simulation<Dim>::Simulation(const Packing<Dim>& packing, const SceneOptions<Dim>
       // A jaw: the spring K w_k on each of its particles bounds K w w^T (walls.h).
       for (size_t j = 0; j < w.particle.size(); ++j)
         wall_stiffness[w.particle[j]] += w.options.conforming() ? w.options.JawStiffness() * w.jaw_weight[j] : k;
+      // A jaw's particle k carries the share w_k of K p: a spring of K w_k^2 per its travel.
+      for (const double share : w.jaw_weight)
+        stiffest_spring_n_per_m_ = std::max(stiffest_spring_n_per_m_, w.options.JawStiffness() * share * share);
       stiffest_spring_n_per_m_ =
           std::max({stiffest_spring_n_per_m_, w.options.normal_stiffness_n_per_m,
                     w.options.tangential_stiffness_n_per_m});

@@ -160,6 +160,7 @@ void LinearisedNetwork<Dim>::Build(const Packing<Dim>& packing, const SceneOptio
 
   // 3. Walls: particles touching (gap <= tolerance x R) link to ground or to the wall's node.
   const double tolerance = scene.contacts.bond_gap_tolerance;
+  std::vector<int> undamped_links;
   constexpr double kMassRadiusOverInertia = Dim == 2 ? 2.0 : 2.5;
   for (const WallOptions<Dim>& wall : scene.walls) {
     const Vector<Dim> normal = wall.normal.normalized();
@@ -179,6 +180,7 @@ void LinearisedNetwork<Dim>::Build(const Packing<Dim>& packing, const SceneOptio
       for (size_t j = 0; j < wall.jaw_particles.size(); ++j) {
         const int p = wall.jaw_particles[j];
         const double k = wall.JawStiffness() * wall.jaw_weights[j];
+        undamped_links.push_back(link_count());  // a jaw has no dashpot
         add_link(p, -1, Vector<Dim>(-wall.jaw_inward[j]), k, 0.0);
         ++links_of[p];
         ++wall_links_;
@@ -249,6 +251,7 @@ void LinearisedNetwork<Dim>::Build(const Packing<Dim>& packing, const SceneOptio
       link_cn_[c] = 2.0 * xi_n * std::sqrt(link_kn_[c] * reduced_mass);
       if (j >= 0) link_ct_[c] = 2.0 * xi_t * std::sqrt(link_kt_[c] * reduced_mass);
     }
+    for (const int c : undamped_links) link_cn_[c] = 0.0;
   }
 
   // 5. Degrees of freedom, without the prescribed axes.

@@ -47,6 +47,8 @@ bool WallOptions<Dim>::IsValid(std::string* error) const {
                   " is not allowed: a force-driven wall needs a finite mass > 0");
     if (!std::isfinite(applied_force_n)) return fail("applied_force_n is not finite");
   }
+  if (!conforming() && (!jaw_weights.empty() || !jaw_inward.empty()))
+    return fail("jaw_weights and jaw_inward are given without jaw_particles");
   if (conforming()) {
     const size_t n = jaw_particles.size();
     if (jaw_weights.size() != n || jaw_inward.size() != n)
@@ -62,6 +64,14 @@ bool WallOptions<Dim>::IsValid(std::string* error) const {
       total += jaw_weights[k];
     }
     if (std::abs(total - 1.0) > 1e-9) return fail("jaw_weights sum to " + number(total) + ", not 1");
+    // The travel is the motion along the normal: a jaw moves only along it.
+    const Vector<Dim> unit = normal / normal.norm();
+    if ((velocity - velocity.dot(unit) * unit).norm() > 1e-12 * std::max(1.0, velocity.norm()))
+      return fail("a conforming jaw moves along its normal only: velocity must be parallel to it");
+    double reach = 0.0;
+    for (size_t k = 0; k < n; ++k) reach += jaw_weights[k] * jaw_inward[k].dot(unit);
+    if (!(reach > 0.0))
+      return fail("the jaw's reach sum w_k n_k . normal = " + number(reach) + " must be > 0 (n_k point into the specimen)");
     std::vector<int> sorted = jaw_particles;
     std::sort(sorted.begin(), sorted.end());
     if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())

@@ -18,6 +18,7 @@
 #include "lab/lab_test.h"
 #include "solver/homogenisation.h"
 #include "solver/simulation.h"
+#include "solver/walls.h"
 
 namespace specimen {
 namespace {
@@ -116,7 +117,8 @@ struct CentreStress {
   double xx_elastic = 0.0, yy_elastic = 0.0;  // the field's average at that force
   double imbalance = 0.0;  // relative energy imbalance
 };
-CentreStress Squeeze(double loading_arc_deg) {
+// particle_youngs_pa > 0: deformable particles (DDEM, nu_p 0.3).
+CentreStress Squeeze(double loading_arc_deg, double particle_youngs_pa = 0.0) {
   const Packing<2>& p = Disc();
   const double radius = 0.01, kn = 1e10;
   SceneOptions<2> scene;
@@ -124,6 +126,10 @@ CentreStress Squeeze(double loading_arc_deg) {
   scene.material.tangential_stiffness_n_per_m = 0.3 * kn;
   scene.material.density_kg_per_m3 = 2600.0;
   scene.material.translational_damping = scene.material.rotational_damping = 0.7;
+  if (particle_youngs_pa > 0.0) {
+    scene.material.particle_youngs_modulus_pa = particle_youngs_pa;
+    scene.material.particle_poisson_ratio = 0.3;
+  }
   const double speed = 2e-3, ramp = 2e-5, hold = 1.2e-4;
   std::array<JawArc<2>, 2> jaws;
   if (loading_arc_deg > 0.0) jaws = BrazilianJawArcs<2>(p, loading_arc_deg);
@@ -149,6 +155,17 @@ CentreStress Squeeze(double loading_arc_deg) {
   simulation.Run(run);
   CentreStress out;
   out.force = 0.5 * (simulation.wall(0).NormalReaction() + simulation.wall(1).NormalReaction());
+  // A jaw's reaction is F C along its normal, F = K max(p, 0), and the particles' forces sum
+  // to minus the force on it (exactly, up to round-off).
+  for (int side = 0; loading_arc_deg > 0.0 && side < 2; ++side) {
+    const WallState<2>& w = simulation.wall(side);
+    const double force = w.options.JawStiffness() * std::max(w.jaw_penetration_m, 0.0);
+    EXPECT_NEAR(w.NormalReaction(), force * w.jaw_reach, 1e-12 * force);
+    EXPECT_GT(force, 0.0);
+    Vector<2> on_particles = Vector<2>::Zero();
+    for (size_t k = 0; k < w.particle.size(); ++k) on_particles -= w.normal_elastic_force[k] * w.PushDirection(k);
+    EXPECT_NEAR((on_particles + w.force_on_wall).norm(), 0.0, 1e-12 * force);
+  }
   std::vector<int> centre;
   double solid = 0.0;
   Eigen::Matrix2d elastic = Eigen::Matrix2d::Zero();
@@ -181,13 +198,25 @@ TEST(BrazilianJaws, AnElasticDiscCarriesHondrosCentreStress) {
     ASSERT_GT(s.force, 0.0);
     EXPECT_NEAR(s.xx, s.xx_elastic, 0.03 * std::abs(s.xx_elastic));
     EXPECT_NEAR(s.yy, s.yy_elastic, 0.03 * std::abs(s.yy_elastic));
-    EXPECT_LT(s.imbalance, 0.01);
+    EXPECT_LT(s.imbalance, 1e-6);  // rigid particles: the audit closes to round-off
   }
+}
+
+// Deformable particles: the jaw's surface point moves by eps s (Madan (2.52)), which enters its
+// penetration and the particle stress. The energy audit of a DDEM run does not close exactly
+// (the strain lags a step; the imbalance falls as 1/Ep), so the jaw is held to the flat
+// platens' audit on the same disc.
+TEST(BrazilianJaws, TheDeformableJawBalancesItsEnergyAsFlatPlatensDo) {
+  const CentreStress jaws = Squeeze(30.0, 1e11), flat = Squeeze(0.0, 1e11);
+  std::printf("DDEM (Ep 1e11): energy imbalance %.3f %% between jaws, %.3f %% between flat platens\n",
+              100.0 * jaws.imbalance, 100.0 * flat.imbalance);
+  EXPECT_LT(jaws.imbalance, 1.5 * flat.imbalance + 1e-4);
 }
 
 // The Brazilian lab test between jaws: sigma_t = k 2 F / (pi D t) with F the peak jaw force,
 // and a tension-governed disc (Rt/Rn 10) splits from its centre at a higher force than between
-// flat platens, where it first breaks at the platens (1.59 x on the 4,000-disc example).
+// flat platens, where it first breaks at the platens (1.23 x at Rt/Rn 10 on the 4,000-disc
+// example of docs/sources.md; 1.57 x on this 1,500-disc disc).
 template <int Dim>
 void ExpectJawsRaiseTheBrazilianStrength(const Packing<Dim>& packing, double thickness) {
   MaterialParameters material;
