@@ -3,7 +3,7 @@
 CSV files and a plot of the error of every property against the strength round.
 
   tools/bench/calibration_bench.py [--build build] [--out bench-out/calibration]
-        [--twins 16] [--ddem-twins 6] [--first-twin 1] [--twins-3d 0] [--count-3d 20000] [--seed 1]
+        [--twins 16] [--ddem-twins 6] [--first-twin 1] [--pick 4,9] [--twins-3d 0] [--count-3d 20000] [--seed 1]
         [--only maps,twins,published,3d] [--reuse-shipped-maps]
 
 1. Maps (unless --reuse-shipped-maps): the bundled Labra rock (2D, rigid) and the bundled
@@ -303,6 +303,8 @@ def main():
     parser.add_argument("--ddem-twins", type=int, default=6, help="of the 2D twins, DDEM ones")
     parser.add_argument("--first-twin", type=int, default=1,
                         help="run the 2D twins from this one on (the earlier ones are drawn, not run)")
+    parser.add_argument("--pick", default="",
+                        help="comma-separated 2D twin numbers to run (the others are drawn, not run)")
     parser.add_argument("--twins-3d", type=int, default=0)
     parser.add_argument("--count-3d", type=int, default=20000)
     parser.add_argument("--seed", type=int, default=1, help="of the hidden parameters")
@@ -322,6 +324,12 @@ def main():
         parser.error("--ddem-twins must be in [0, --twins]")
     if not 1 <= args.first_twin <= max(1, args.twins):
         parser.error("--first-twin must be in [1, --twins]")
+    try:
+        picked = set(int(v) for v in args.pick.split(",") if v.strip())
+    except ValueError:
+        parser.error("--pick: comma-separated twin numbers, e.g. 4,9")
+    if any(not 1 <= v <= args.twins for v in picked):
+        parser.error("--pick: twin numbers must be in [1, --twins]")
     build = os.path.abspath(args.build)
     out = os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
@@ -367,7 +375,7 @@ def main():
         for i in range(args.twins):
             deformable = i >= args.twins - args.ddem_twins
             hidden = draw_hidden(rng, deformable, bound, 2)
-            if i + 1 < args.first_twin:
+            if i + 1 < args.first_twin or (picked and i + 1 not in picked):
                 continue  # drawn, so that every twin keeps its hidden parameters
             d = os.path.join(out, "twin_%02d" % (i + 1))
             target = forward(build, packings, hidden, os.path.join(d, "forward"))
@@ -391,8 +399,9 @@ def main():
         print_table("Twin experiments (2D, default 5,064-disc specimen)", twin_rows, True)
         ok = sum(1 for r in twin_rows if r["converged"] and r["best_round"] <= MAX_ROUNDS and met_row(r))
         emit()
-        emit("Twins met within %d rounds: %d of %d; median wall time %.0f s." % (
-            MAX_ROUNDS, ok, len(twin_rows), statistics.median(r["seconds"] for r in twin_rows)))
+        emit("Twins met within %d rounds: %d of %d; strength rounds in all: %d; median wall time %.0f s." % (
+            MAX_ROUNDS, ok, len(twin_rows), sum(r["rounds"] for r in twin_rows),
+            statistics.median(r["seconds"] for r in twin_rows)))
         rows += twin_rows
 
     published_rows = []

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """The reach map: which (nu, UCS / sigma_t) each model reaches on the calibrator's default 2D
-specimens, measured by real tests; prints the table, writes CSV, JSON and a picture.
+specimens, or on its 3D ones (--dimension 3), measured by real tests; prints the table, writes
+CSV, JSON and a picture.
 
-  tools/bench/reach_map.py [--build build] [--out bench-out/reach] [--packings UCS BTS]
+  tools/bench/reach_map.py [--build build] [--dimension 2] [--out bench-out/reach] [--packings UCS BTS]
         [--models rigid,moment,ddem,lattice] [--markdown PATH] [--picture PATH] [--quick] [--reuse JSON]
         [--lattice-map JSON]
 
@@ -28,11 +29,28 @@ Brazilian test; the point's (nu, UCS / sigma_t) goes into the map. The grids:
            instead (data/maps/maps_2d_lattice_*.json: its rows of nu x friction angle 5, 15,
            30, 50 x sigma_t / c 0.05-2.5, each a UCS and a Brazilian test), not measured again
 
+In 3D (--dimension 3; out bench-out/reach3d) the specimens are a calibrator's 3D ones: --packings,
+or the 5,142-sphere UCS cylinder and 1,442-sphere Brazilian disc of the first 3D twin of the
+calibration bench (bench-out/calibration3d/twin3d_01/; `calibration_bench.py --only 3d --twins-3d 1
+--count-3d 5000 --out bench-out/calibration3d` makes them). nu is the 3D one; the Brazilian test has flat
+platens, the calibrator's bonded default. kn and Rn keep the 2D grid's kn / l and bond strain at
+failure Rn / (kn l), l the UCS specimen's volume-mean radius (run-test's l in 3D). The grids
+(default models rigid, rigid_range, ddem_range):
+
+  rigid        contact bonds: kt/kn 0.1, 0.3, 0.6, 0.9 x Rt/Rn 0.5, 2, 6, 20
+  rigid_range  the same with bonds within range (bond_range gamma 1.4: every pair within
+               1.4 (ri + rj) bonded; the ratio of bonded spheres grows with their bonded
+               coordination, docs/solver.md)
+  ddem, ddem_range  deformable particles, nu_p 0.45, kn/(Ep l) at 0.85 of the admissible bound
+               of both specimens (with the bonds at range for ddem_range): kt/kn 0.05, 0.3, 0.6
+               x Rt/Rn 1, 4, 16
+
 A model's region is, at each of its elastic sets (one nu), the interval of the ratio over its
 strength parameters. The map is measured, not taken from the calibration maps: the map
 specimens (0.3 of the particles) transfer the ratio poorly (at kt/kn 0.3, Rt/Rn 0.25 they
 give 6.9 where the default specimen gives 11.2). The target rectangle of a reach (nu 0.05-0.40,
-ratio 4-25) and the published rocks of data/materials/published/ are drawn on it.
+ratio 4-25; 3D nu 0.05-0.35, ratio 4-20) and the published rocks of data/materials/published/
+are drawn on it.
 """
 import argparse
 import glob
@@ -49,16 +67,23 @@ sys.path.insert(0, HERE)
 import calibration_bench as cb  # noqa: E402  (run_test, summary, calibrate, fresh_maps)
 
 KN, RN, DENSITY = 3e10, 1e4, 2600.0
-TARGET_NU, TARGET_RATIO = (0.05, 0.40), (4.0, 25.0)
+TARGETS = {2: ((0.05, 0.40), (4.0, 25.0)), 3: ((0.05, 0.35), (4.0, 20.0))}  # (nu, ratio) of a reach
 MODELS = {
     "rigid": "rigid, contact bonds",
+    "rigid_range": "rigid, bonds within range (gamma 1.4)",
     "moment": "rigid, bonds with a moment (lambda 1)",
     "ddem": "DDEM (nu_p 0.45)",
+    "ddem_range": "DDEM (nu_p 0.45), bonds within range (gamma 1.4)",
     "rigid_jaws": "rigid, contact bonds, Brazilian jaws 30 deg",
     "ddem_jaws": "DDEM (nu_p 0.45), Brazilian jaws 30 deg",
     "lattice": "six-spring lattice",
 }
+DIMENSION_MODELS = {2: ("rigid", "moment", "ddem", "rigid_jaws", "ddem_jaws", "lattice"),
+                    3: ("rigid", "rigid_range", "ddem", "ddem_range")}
+DEFAULT_MODELS = {2: "rigid,moment,ddem,lattice", 3: "rigid,rigid_range,ddem_range"}
 LOADING_ARC = 30.0  # the jaws of the *_jaws models [degrees]
+BOND_RANGE = 1.4  # gamma of the *_range models
+TWIN_3D = os.path.join("bench-out", "calibration3d", "twin3d_01")  # the default 3D specimens
 
 
 def bonded_scene(packing, kind, material, name, elastic, loading_arc=0.0):
@@ -113,7 +138,7 @@ def strength_pair(build, packings, material, directory, tag, scene=bonded_scene,
 
 
 def elastic_nu(build, packing, material, directory, tag):
-    """nu (plane strain) of the intact specimen: the elastic run, bonds unbreakable."""
+    """nu (2D: plane strain) of the intact specimen: the elastic run, bonds unbreakable."""
     e = launch(build, bonded_scene(packing, "ucs", material, "elastic_" + tag, True), directory, "elastic_" + tag)
     # An elastic run has no peak by design: run-test says so with status 4.
     r, error = finish(e, directory, "elastic_" + tag, allowed=(0, 4))
@@ -122,19 +147,61 @@ def elastic_nu(build, packing, material, directory, tag):
     return r["linear_elastic"]["poisson_ratio"]
 
 
-def admissible_compliance(build, packings, nu_p, directory):
-    """kn/(Ep l) at rho(B) = 0.9 on both specimens (stability-limit), the lower of the two."""
+def admissible_compliance(build, packings, nu_p, directory, bond_range=1.0):
+    """kn/(Ep l) at rho(B) = 0.9 on both specimens (stability-limit, the bonds at range counted),
+    the lower of the two. In 3D l is a packing's volume-mean radius: a bound is carried to the
+    UCS specimen's l, as one Ep serves both specimens (in 2D l = 1 m on both)."""
     bounds = []
     for k, packing in enumerate(packings):
-        out = os.path.join(directory, "stability_%d" % k)
+        out = os.path.join(directory, "stability_%d" % k if bond_range == 1.0 else
+                           "stability_g%g_%d" % (bond_range, k))
         result = cb.run([os.path.join(build, "tools", "stability-limit"), "--packing", packing, "--kn", str(KN),
                          "--density", str(DENSITY), "--Ep", str(KN / 0.1), "--nu-p", str(nu_p), "--max-rho", "0.9",
-                         "--output", out, "--quiet"])
+                         "--output", out, "--quiet"]
+                        + (["--bond-range", str(bond_range)] if bond_range != 1.0 else []))
         if result.returncode != 0:
             raise RuntimeError("stability-limit failed: " + result.stdout[-500:] + result.stderr[-500:])
         with open(os.path.join(out, "packing_stability.json")) as f:
-            bounds.append(json.load(f)["analysis"]["ddem_convergence"]["recommended_kn_over_ep"])
-    return min(bounds)
+            analysis = json.load(f)["analysis"]
+        bounds.append((analysis["ddem_convergence"]["recommended_kn_over_ep"], analysis["scene"]["group_length_m"]))
+    return min(c * length / bounds[0][1] for c, length in bounds)
+
+
+def shown(path):
+    """A path as the page gives it: from the repository's root when inside it."""
+    path = os.path.abspath(path)
+    inside = os.path.commonpath([path, ROOT]) == ROOT
+    return os.path.relpath(path, ROOT) if inside else path
+
+
+def read_packing(path):
+    """Dimension, domain shape, particle count and volume-mean radius of a packing file."""
+    info, radii, left = {"dimension": 2, "shape": "", "particles": 0}, [], 0
+    with open(path) as f:
+        for line in f:
+            words = line.split()
+            if left > 0:
+                radii.append(float(words[-1]))
+                left -= 1
+            elif words[:1] == ["dimension"]:
+                info["dimension"] = int(words[1])
+            elif words[:1] == ["domain"]:
+                info["shape"] = words[1]
+            elif words[:1] == ["particles"]:
+                info["particles"] = left = int(words[1])
+    d = info["dimension"]
+    info["volume_mean_radius"] = (sum(r ** d for r in radii) / max(1, len(radii))) ** (1.0 / d)
+    return info
+
+
+def scales(dimension, packing):
+    """kn, Rn and l of the grids: in 2D per metre of thickness (l = 1 m); in 3D on spheres of
+    the UCS specimen's volume-mean radius l, the 2D grid's kn / l and bond strain at failure
+    Rn / (kn l) (of 2D discs of cb.MEAN_RADIUS_2D)."""
+    if dimension == 2:
+        return KN, RN, 1.0
+    length = read_packing(packing)["volume_mean_radius"]
+    return KN * length, RN * length ** 2 / cb.MEAN_RADIUS_2D, length
 
 
 def ends(values, quick):
@@ -156,11 +223,12 @@ def lattice_map_rows(path):
     return rows
 
 
-def measure(build, packings, models, out, quick=False, known=()):
+def measure(build, packings, models, out, quick=False, known=(), dimension=2):
     """Every point of every model's grid: rows of (model, elastic set, strength set, nu, ratio).
     `known`: rows of an earlier run, whose flat-platen UCS and nu the *_jaws models take."""
     rows = []
     runs = os.path.join(out, "runs")
+    kn, rn, length = scales(dimension, packings[0])
 
     def flat_row(model, s, x):
         """The flat-platen model's measured row of this point (this run first), or None."""
@@ -183,7 +251,7 @@ def measure(build, packings, models, out, quick=False, known=()):
     def bonded(model, stiffness_ratios, strength_ratios, extra, flat_model=None):
         arc = LOADING_ARC if flat_model else 0.0
         for s in ends(stiffness_ratios, quick):
-            base = {"normal_stiffness": KN, "tangential_stiffness": s * KN, "friction_coefficient": 0.8,
+            base = {"normal_stiffness": kn, "tangential_stiffness": s * kn, "friction_coefficient": 0.8,
                     "density": DENSITY}
             base.update(extra)
             tag = "%s_s%g" % (model, s)
@@ -192,26 +260,35 @@ def measure(build, packings, models, out, quick=False, known=()):
             nu = known_nu[0] if known_nu else elastic_nu(build, packings[0], base, runs, tag)
             for x in ends(strength_ratios, quick):
                 start = time.monotonic()
-                m = dict(base, bond_tensile_strength=RN, bond_shear_strength=x * RN)
+                m = dict(base, bond_tensile_strength=rn, bond_shear_strength=x * rn)
                 flat = flats[x]
                 record({"model": model, "kt_over_kn": s, "rt_over_rn": x, "poisson_ratio": nu},
                        strength_pair(build, packings, m, runs, "%s_x%g" % (tag, x), loading_arc=arc,
                                      ucs=flat["ucs_pa"] if flat else None), start)
 
-    rigid_grid = ((0.1, 0.2, 0.4, 0.9), (0.25, 1.0, 3.16, 10.0, 30.0))
+    if dimension == 3:
+        rigid_grid, ddem_grid = ((0.1, 0.3, 0.6, 0.9), (0.5, 2.0, 6.0, 20.0)), ((0.05, 0.3, 0.6), (1.0, 4.0, 16.0))
+    else:
+        rigid_grid, ddem_grid = ((0.1, 0.2, 0.4, 0.9), (0.25, 1.0, 3.16, 10.0, 30.0)), ((0.05, 0.15, 0.3, 0.6),
+                                                                                        (1.0, 3.16, 10.0))
     if "rigid" in models:
         bonded("rigid", *rigid_grid, {})
+    if "rigid_range" in models:
+        bonded("rigid_range", *rigid_grid, {"bond_range": BOND_RANGE})
     if "rigid_jaws" in models:
         bonded("rigid_jaws", *rigid_grid, {}, flat_model="rigid")
     if "moment" in models:
         bonded("moment", (0.1, 0.2, 0.4, 0.9), (0.5, 1.0, 3.16, 10.0), {"bond_radius_ratio": 1.0})
-    for model in ("ddem", "ddem_jaws"):
+    for model in ("ddem", "ddem_range", "ddem_jaws"):
         if model not in models:
             continue
-        compliance = 0.85 * admissible_compliance(build, packings, 0.45, runs)
-        extra = {"particle_youngs_modulus": KN / compliance, "particle_poisson_ratio": 0.45}
-        for s in ends((0.05, 0.15, 0.3, 0.6), quick):
-            bonded(model, (s,), (1.0, 3.16, 10.0), dict(extra), flat_model="ddem" if model == "ddem_jaws" else None)
+        gamma = BOND_RANGE if model == "ddem_range" else 1.0
+        compliance = 0.85 * admissible_compliance(build, packings, 0.45, runs, gamma)
+        extra = {"particle_youngs_modulus": kn / (compliance * length), "particle_poisson_ratio": 0.45}
+        if gamma != 1.0:
+            extra["bond_range"] = gamma
+        for s in ends(ddem_grid[0], quick):
+            bonded(model, (s,), ddem_grid[1], dict(extra), flat_model="ddem" if model == "ddem_jaws" else None)
         for r in rows:
             if r["model"] == model:
                 r["kn_over_ep_l"] = compliance
@@ -292,24 +369,26 @@ def published_rocks():
     return rocks
 
 
-def coverage(table):
+def coverage(table, target):
     """Share of the target rectangle (uniform in nu and in log ratio) inside some model."""
+    (nu_low, nu_high), (ratio_low, ratio_high) = target
     hits, total = 0, 0
     for i in range(36):
-        nu = TARGET_NU[0] + (TARGET_NU[1] - TARGET_NU[0]) * i / 35.0
+        nu = nu_low + (nu_high - nu_low) * i / 35.0
         for j in range(41):
-            ratio = TARGET_RATIO[0] * (TARGET_RATIO[1] / TARGET_RATIO[0]) ** (j / 40.0)
+            ratio = ratio_low * (ratio_high / ratio_low) ** (j / 40.0)
             total += 1
             hits += 1 if covers(table, nu, ratio) else 0
     return hits / total
 
 
-def plot(table, rows, rocks, png):
+def plot(table, rows, rocks, png, target, title, nu_label):
     """Regions as filled polygons (lower envelope over nu, then the upper one back), the
     measured points, the target rectangle and the published rocks."""
     base = os.path.splitext(png)[0]
-    colours = {"rigid": "#4060a0", "moment": "#40a060", "ddem": "#d08020", "rigid_jaws": "#20a0c0",
-               "ddem_jaws": "#c04020", "lattice": "#a040a0"}
+    colours = {"rigid": "#4060a0", "rigid_range": "#2090a0", "moment": "#40a060", "ddem": "#d08020",
+               "ddem_range": "#b03060", "rigid_jaws": "#20a0c0", "ddem_jaws": "#c04020", "lattice": "#a040a0"}
+    (nu_low, nu_high), (ratio_low, ratio_high) = target
     drawn = [m for m in MODELS if table.get(m)]
     with open(base + "_regions.dat", "w") as f, open(base + "_points.dat", "w") as g:
         for model in drawn:  # one block per model: gnuplot's index
@@ -329,15 +408,16 @@ def plot(table, rows, rocks, png):
             base, k, colours[model]))
     plots.append("'%s_rocks.dat' using 1:2 with points pt 6 ps 1.6 lw 2 lc rgb '#d02020' "
                  "title 'published rocks'" % base)
-    plots.append("1/0 with lines dt 2 lw 2 lc rgb '#202020' title 'target: nu 0.05-0.40, ratio 4-25'")
+    plots.append("1/0 with lines dt 2 lw 2 lc rgb '#202020' title 'target: nu %.2f-%.2f, ratio %g-%g'" % (
+        nu_low, nu_high, ratio_low, ratio_high))
     script = "\n".join([
         "set terminal pngcairo size 1100,760 font ',11'", "set output '%s'" % png,
         "set logscale y", "set xrange [0:0.5]", "set yrange [2:60]", "set grid",
-        "set xlabel 'nu (plane strain)'", "set ylabel 'UCS / sigma_t (Brazilian)'",
-        "set title 'Reach on the default 2D specimens (5,064-disc UCS, 3,940-disc Brazilian), measured'",
+        "set xlabel '%s'" % nu_label, "set ylabel 'UCS / sigma_t (Brazilian)'",
+        "set title '%s'" % title,
         "set key outside right top", "set style fill transparent solid 0.25 border",
         "set object 1 rect from %g,%g to %g,%g fs empty border lc rgb '#202020' dt 2 lw 2" % (
-            TARGET_NU[0], TARGET_RATIO[0], TARGET_NU[1], TARGET_RATIO[1]),
+            nu_low, ratio_low, nu_high, ratio_high),
         "plot " + ", \\\n  ".join(plots), ""])
     result = subprocess.run(["gnuplot"], input=script, capture_output=True, text=True)
     if result.returncode != 0:
@@ -347,9 +427,13 @@ def plot(table, rows, rocks, png):
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--build", default="build")
-    parser.add_argument("--out", default="bench-out/reach")
+    parser.add_argument("--dimension", type=int, choices=(2, 3), default=2,
+                        help="2: the default 2D specimens; 3: a calibrator's 3D specimens (--packings, or those "
+                             "of %s)" % TWIN_3D)
+    parser.add_argument("--out", help="default bench-out/reach (2D), bench-out/reach3d (3D)")
     parser.add_argument("--packings", nargs=2, metavar=("UCS", "BTS"))
-    parser.add_argument("--models", default="rigid,moment,ddem,lattice")
+    parser.add_argument("--models", help="comma-separated; default %s (2D), %s (3D)" % (
+        DEFAULT_MODELS[2], DEFAULT_MODELS[3]))
     parser.add_argument("--markdown", help="the page to write (default OUT/reach_map.md)")
     parser.add_argument("--picture", help="where to copy the picture (default: only OUT/reach_map.png)")
     parser.add_argument("--quick", action="store_true", help="the two ends of every grid axis: a smoke test")
@@ -359,14 +443,36 @@ def main():
                         help="an earlier run's reach_map.json: the points of the models not in --models are "
                              "taken from it (the page says which)")
     args = parser.parse_args()
+    dimension = args.dimension
+    args.models = args.models or DEFAULT_MODELS[dimension]
+    args.out = args.out or ("bench-out/reach" if dimension == 2 else "bench-out/reach3d")
     models = [m.strip() for m in args.models.split(",")]
     unknown = set(models) - set(MODELS)
     if unknown:
         parser.error("--models: unknown %s" % ", ".join(sorted(unknown)))
+    elsewhere = [m for m in models if m not in DIMENSION_MODELS[dimension]]
+    if elsewhere:
+        parser.error("--models: %s not in %dD (there: %s)" % (", ".join(elsewhere), dimension,
+                                                              ", ".join(DIMENSION_MODELS[dimension])))
+    if args.lattice_map and dimension == 3:
+        parser.error("--lattice-map: the lattice is 2D")
+    earlier = []
+    if args.reuse:
+        with open(args.reuse) as f:
+            before = json.load(f)
+        if before.get("dimension", 2) != dimension:
+            parser.error("--reuse: %s is a %dD map" % (args.reuse, before.get("dimension", 2)))
+        earlier = before["points"]
     build, out = os.path.abspath(args.build), os.path.abspath(args.out)
-    os.makedirs(out, exist_ok=True)
 
     packings = args.packings
+    if not packings and dimension == 3:
+        packings = [os.path.join(ROOT, TWIN_3D, "twin_%s.packing" % k) for k in ("ucs", "bts")]
+        if not all(os.path.exists(p) for p in packings):
+            parser.error("no --packings and no 3D specimens in %s: make them with `python3 tools/bench/"
+                         "calibration_bench.py --only 3d --twins-3d 1 --count-3d 5000 --out bench-out/calibration3d`"
+                         % TWIN_3D)
+    os.makedirs(out, exist_ok=True)
     if not packings:
         reference = os.path.join(ROOT, "bench-out", "calibration", "reference")
         packings = [os.path.join(reference, "reference_ucs.packing"), os.path.join(reference, "reference_bts.packing")]
@@ -379,14 +485,14 @@ def main():
             packings = [os.path.join(reference, "reference_ucs.packing"),
                         os.path.join(reference, "reference_bts.packing")]
     packings = [os.path.abspath(p) for p in packings]
+    specimens = [read_packing(p) for p in packings]
+    if any(s["dimension"] != dimension for s in specimens):
+        parser.error("--packings: %s, not %dD" % (", ".join("%s is %dD" % (p, s["dimension"]) for p, s in zip(
+            packings, specimens) if s["dimension"] != dimension), dimension))
 
     start = time.monotonic()
     measured = [m for m in models if not (m == "lattice" and args.lattice_map)]
-    earlier = []
-    if args.reuse:
-        with open(args.reuse) as f:
-            earlier = json.load(f)["points"]
-    rows = measure(build, packings, measured, out, args.quick, known=earlier)
+    rows = measure(build, packings, measured, out, args.quick, known=earlier, dimension=dimension)
     if "lattice" in models and args.lattice_map:
         rows += lattice_map_rows(args.lattice_map)
     reused = []
@@ -397,7 +503,8 @@ def main():
     rocks = published_rocks()
     for rock in rocks:
         rock["models"] = covers(table, rock["poisson_ratio"], rock["strength_ratio"])
-    share = coverage(table)
+    target = TARGETS[dimension]
+    share = coverage(table, target)
 
     csv_path = os.path.join(out, "reach_map.csv")
     fields = ["model", "poisson_ratio", "kt_over_kn", "rt_over_rn", "kn_over_ep_l", "friction_angle_deg",
@@ -407,36 +514,64 @@ def main():
         for r in rows:
             f.write(",".join(str(r.get(k, "")) for k in fields) + "\n")
     with open(os.path.join(out, "reach_map.json"), "w") as f:
-        json.dump({"specimens": packings, "points": rows, "regions": table, "published_rocks": rocks,
-                   "target": {"poisson_ratio": TARGET_NU, "strength_ratio": TARGET_RATIO},
-                   "target_covered_share": share}, f, indent=1)
+        # 2D maps carry no dimension (those written before 3D had none).
+        json.dump(dict({"dimension": 3} if dimension == 3 else {}, specimens=packings, points=rows, regions=table,
+                       published_rocks=rocks, target={"poisson_ratio": target[0], "strength_ratio": target[1]},
+                       target_covered_share=share), f, indent=1)
     png = os.path.join(out, "reach_map.png")
-    plot(table, rows, rocks, png)
+    page = os.path.abspath(args.markdown or os.path.join(out, "reach_map.md"))
+    if dimension == 2:
+        nu_label = "nu (plane strain)"
+        title = "Reach on the default 2D specimens (5,064-disc UCS, 3,940-disc Brazilian), measured"
+    else:
+        nu_label = "nu"
+        described = "%s-sphere UCS %s and %s-sphere Brazilian disc" % (
+            "{:,}".format(specimens[0]["particles"]), specimens[0]["shape"], "{:,}".format(specimens[1]["particles"]))
+        title = "Reach on the 3D specimens (%s), measured" % described
+    plot(table, rows, rocks, png, target, title, nu_label)
 
-    md = ["# Reach map (2D, the calibrator's default specimens)", "",
-          "Reproduce: `python3 tools/bench/reach_map.py --markdown tools/bench/reach_map.md "
-          "--picture docs/images/reach_map.png%s` (%s; every model measured: about 75 minutes on 2 cores, 25 of "
-          "them the lattice, 12 the jaws models). Every point is the "
-          "elastic run, the UCS and the Brazilian test of run-test on the 5,064-disc UCS square and the "
-          "3,940-disc Brazilian disc; the grids are in the script's header." % (
-              "".join(" --%s %s" % (k.replace("_", "-"), v) for k, v in (
-                  ("models", args.models if args.models != "rigid,moment,ddem,lattice" else None),
-                  ("reuse", args.reuse and os.path.relpath(os.path.abspath(args.reuse), ROOT)),
-                  ("lattice_map", args.lattice_map and os.path.relpath(os.path.abspath(args.lattice_map), ROOT)))
-                  if v), "%.0f minutes for what it measured" % ((time.monotonic() - start) / 60) if measured
-              else "nothing measured by it")
-          + ("" if not reused else " Measured here: %s; taken from an earlier run (`--reuse`): %s." % (
-              ", ".join(MODELS[m] for m in measured) or "none", ", ".join(MODELS[m] for m in reused)))
-          + ("" if not args.lattice_map else " The lattice's points are those of its stored strength map, %s "
-             "(`--lattice-map`)." % os.path.relpath(os.path.abspath(args.lattice_map), ROOT)), "",
-          "![reach map](../../docs/images/reach_map.png)", "",
-          "| model | nu (plane strain) | UCS / sigma_t at that nu: lowest - highest measured |", "|---|---|---|"]
+    minutes = ("%.0f minutes for what it measured" % ((time.monotonic() - start) / 60) if measured
+               else "nothing measured by it")
+    if dimension == 2:
+        md = ["# Reach map (2D, the calibrator's default specimens)", "",
+              "Reproduce: `python3 tools/bench/reach_map.py --markdown tools/bench/reach_map.md "
+              "--picture docs/images/reach_map.png%s` (%s; every model measured: about 75 minutes on 2 cores, 25 of "
+              "them the lattice, 12 the jaws models). Every point is the "
+              "elastic run, the UCS and the Brazilian test of run-test on the 5,064-disc UCS square and the "
+              "3,940-disc Brazilian disc; the grids are in the script's header." % (
+                  "".join(" --%s %s" % (k.replace("_", "-"), v) for k, v in (
+                      ("models", args.models if args.models != DEFAULT_MODELS[2] else None),
+                      ("reuse", args.reuse and os.path.relpath(os.path.abspath(args.reuse), ROOT)),
+                      ("lattice_map", args.lattice_map and os.path.relpath(os.path.abspath(args.lattice_map), ROOT)))
+                      if v), minutes)]
+        picture = "../../docs/images/reach_map.png"
+    else:
+        # What the page needs to be made again: the specimens, models and paths given, --quick.
+        flags = " --dimension 3"
+        flags += " --packings %s %s" % tuple(shown(p) for p in packings) if args.packings else ""
+        flags += " --models " + args.models if args.models != DEFAULT_MODELS[3] else ""
+        for name, path in (("markdown", args.markdown), ("picture", args.picture), ("reuse", args.reuse)):
+            flags += " --%s %s" % (name, shown(path)) if path else ""
+        flags += " --quick" if args.quick else ""
+        md = ["# Reach map (3D, %s)" % described, "",
+              "Reproduce: `python3 tools/bench/reach_map.py%s` (%s). Every point is the elastic run, the UCS and the "
+              "Brazilian test (flat platens) of run-test on the %s; kn / l = %g Pa and Rn / (kn l) = %.3g, the 2D "
+              "grid's, with l = %.3g mm the UCS specimen's volume-mean radius; the grids are in the script's header." % (
+                  flags, minutes, described, KN, RN / (KN * cb.MEAN_RADIUS_2D), 1e3 * specimens[0]["volume_mean_radius"])]
+        picture = os.path.relpath(os.path.abspath(args.picture) if args.picture else png, os.path.dirname(page))
+    md[-1] += (("" if not reused else " Measured here: %s; taken from an earlier run (`--reuse`): %s." % (
+        ", ".join(MODELS[m] for m in measured) or "none", ", ".join(MODELS[m] for m in reused)))
+        + ("" if not args.lattice_map else " The lattice's points are those of its stored strength map, %s "
+           "(`--lattice-map`)." % os.path.relpath(os.path.abspath(args.lattice_map), ROOT)))
+    md += ["", "![reach map](%s)" % picture, "",
+           "| model | %s | UCS / sigma_t at that nu: lowest - highest measured |" % nu_label, "|---|---|---|"]
     for model in MODELS:
         for s in table.get(model, []):
             md.append("| %s | %.3f | %.1f - %.1f |" % (MODELS[model], s["poisson_ratio"], s["ratio_min"], s["ratio_max"]))
     failures = [r for r in rows if "failure" in r]
-    md += ["", "Share of the target rectangle (nu 0.05-0.40 x ratio 4-25, uniform in nu and in the "
-           "logarithm of the ratio) inside the region of at least one model: **%.0f %%**." % (100 * share), "",
+    md += ["", "Share of the target rectangle (nu %.2f-%.2f x ratio %g-%g, uniform in nu and in the "
+           "logarithm of the ratio) inside the region of at least one model: **%.0f %%**." % (
+               target[0] + target[1] + (100 * share,)), "",
            "| published rock | nu | UCS / sigma_t | inside the region of |", "|---|---|---|---|"]
     for rock in rocks:
         md.append("| %s | %.2f | %.1f | %s |" % (rock["name"], rock["poisson_ratio"], rock["strength_ratio"],
@@ -447,7 +582,7 @@ def main():
     md.append("")
     text = "\n".join(md)
     print("\n" + text)
-    with open(args.markdown or os.path.join(out, "reach_map.md"), "w") as f:
+    with open(page, "w") as f:
         f.write(text)
     if args.picture and os.path.exists(png):
         os.makedirs(os.path.dirname(os.path.abspath(args.picture)), exist_ok=True)
