@@ -275,6 +275,11 @@ bool CalibrationOptions::IsValid(std::string* error) const {
     out << "particle_poisson_ratio = " << particle_poisson_ratio << ", allowed (-1, 0.5)";
   else if (!(friction_coefficient >= 0.0 && friction_coefficient <= 10.0))
     out << "friction_coefficient = " << friction_coefficient << ", allowed [0, 10]";
+  else if (anchor_levels != 2 && anchor_levels != 3)
+    out << "anchor_levels = " << anchor_levels << ", allowed 2 or 3";
+  else if (anchor_levels != 2 && !maps_file.empty())
+    out << "anchor_levels = " << anchor_levels << " with a given maps file: its anchors are read as stored "
+        << "(anchors are completed in the maps directory only); allowed 2";
   else if (!(bond_range >= 1.0 && bond_range <= 1.5))
     out << "bond_range = " << bond_range << ", allowed [1, 1.5]";
   else if (workers < 0 || workers > 256)
@@ -346,6 +351,48 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     return o;
   };
 
+  // The transfer anchors of the maps' design (map_sweep.h) that `stored` lacks for these real
+  // specimens (anchors of an equivalent specimen count, MapsMatchPacking, as the surrogate
+  // takes them): the same tests on the real specimens, stored with the maps. Returns how many
+  // were measured.
+  auto measure_anchors = [&](StoredMaps* stored, const std::string& path, const std::string& label) {
+    if (!separate_map_specimens) return 0;
+    auto same = [](const MicroRatios& a, const MicroRatios& b) {
+      for (MicroRatio r : {MicroRatio::kStiffnessRatio, MicroRatio::kStrengthRatio, MicroRatio::kFriction,
+                           MicroRatio::kParticleCompliance, MicroRatio::kParticlePoisson})
+        if (std::abs(RatioValue(a, r) - RatioValue(b, r)) > 1e-9 * (1.0 + std::abs(RatioValue(b, r)))) return false;
+      return true;
+    };
+    std::vector<MicroRatios> missing;
+    for (const MicroRatios& r : TransferAnchorPoints(stored->design, options.anchor_levels)) {
+      bool present = false;
+      for (const VerifiedPoint& v : stored->verified)
+        present = present || (v.origin == "anchor" && same(v.ratios, r) &&
+                              MapsMatchPacking(v.specimen, summary.ucs_descriptors, nullptr));
+      if (!present) missing.push_back(r);
+    }
+    if (missing.empty()) return 0;
+    MapSweepOptions anchor_options = sweep_options_for(summary.ucs_descriptors, label + ", transfer anchors");
+    if (!path.empty()) anchor_options.journal_path = path + ".anchors.journal";
+    const MapSweep anchors = RunSweepPoints<Dim>(specimens.ucs, specimens.bts, missing, anchor_options);
+    int measured = 0;
+    for (const SweepPoint& p : anchors.points) {
+      if (!p.ok) continue;
+      VerifiedPoint v;
+      v.ratios = p.ratios;
+      v.specimen = summary.ucs_descriptors;
+      v.poisson_ratio = p.poisson_ratio;
+      v.elastic_group = p.elastic_group;
+      v.compressive_group = p.compressive_group;
+      v.tensile_group = p.tensile_group;
+      v.origin = "anchor";
+      stored->verified.insert(stored->verified.begin() + measured, v);  // anchors first, as built
+      ++measured;
+    }
+    if (Rank() == 0) RemoveSweepJournals(anchor_options.journal_path);
+    return measured;
+  };
+
   auto obtain_maps = [&](bool deformable, const SweepDesign& design, const std::string& label) {
     StoredMaps stored;
     const std::string key = MapKey(Dim, deformable, design, protocol, sweep_specimen, options.max_total_degree);
@@ -364,6 +411,15 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
           MapsMatchPacking(stored.ucs_descriptors, sweep_ucs, &why)) {
         summary.maps_reused = true;
         summary.maps_path = path;
+        // Anchors the stored maps lack: anchor_levels 3 on maps built with 2, or real
+        // specimens other than those the maps were anchored on.
+        const auto start = Clock::now();
+        if (measure_anchors(&stored, path, label) > 0) {
+          const double seconds = SecondsSince(start);
+          stored.sweep_seconds += seconds;
+          summary.sweep_seconds += seconds;
+          if (Rank() == 0) SaveStoredMaps(stored, path);
+        }
         return stored;
       }
       summary.notes.push_back("stored maps " + path + " not reused: " + why);
@@ -393,26 +449,7 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
       summary.notes.push_back(std::to_string(sweep.failed_points) + " of " + std::to_string(sweep.points.size()) +
                               " " + label + " points failed and were left out of the fit");
     stored.maps = FitMaps(sweep, design, options.max_total_degree);
-    // The transfer anchors: the same tests on the real specimens (map_sweep.h).
-    if (separate_map_specimens) {
-      MapSweepOptions anchor_options = sweep_options_for(summary.ucs_descriptors, label + ", transfer anchors");
-      if (!path.empty()) anchor_options.journal_path = path + ".anchors.journal";
-      const MapSweep anchors =
-          RunSweepPoints<Dim>(specimens.ucs, specimens.bts, TransferAnchorPoints(design), anchor_options);
-      for (const SweepPoint& p : anchors.points) {
-        if (!p.ok) continue;
-        VerifiedPoint v;
-        v.ratios = p.ratios;
-        v.specimen = summary.ucs_descriptors;
-        v.poisson_ratio = p.poisson_ratio;
-        v.elastic_group = p.elastic_group;
-        v.compressive_group = p.compressive_group;
-        v.tensile_group = p.tensile_group;
-        v.origin = "anchor";
-        stored.verified.push_back(v);
-      }
-      if (Rank() == 0) RemoveSweepJournals(anchor_options.journal_path);
-    }
+    measure_anchors(&stored, path, label);
     stored.sweep_seconds = SecondsSince(sweep_start);
     summary.sweep_seconds += stored.sweep_seconds;
     if (!path.empty()) {

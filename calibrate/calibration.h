@@ -12,8 +12,9 @@
 // The steps (Labra 2012 chapter 4; Madan 2019 section 4):
 // 1. Maps (map_sweep.h, map_store.h): UCS, Brazilian and elastic runs at the points of a grid
 //    of micro ratios on smaller map specimens, reduced to the dimensionless groups and fitted
-//    by smooth surfaces; when the maps are built, the same tests on the real specimens at four
-//    transfer anchors (TransferAnchorPoints), which measure how the surfaces' offsets transfer.
+//    by smooth surfaces; when the maps are built, the same tests on the real specimens at the
+//    transfer anchors (TransferAnchorPoints: 4, or 13 with anchor_levels 3), which measure how
+//    the surfaces' offsets transfer.
 //    Maps are reused from the map directory when maps of the same design and protocol exist
 //    for an equivalent packing.
 // 2. Reach and model (calibration_solver.h): elastic runs at the corners of the box give the
@@ -108,6 +109,11 @@ struct CalibrationOptions {
   // gamma of every map and round: bonds within gamma (ri + rj) (solver/bond_range.h), [1, 1.5].
   // Above 1 it raises sigma_c / sigma_t of bonded spheres (docs/calibration.md, "Reach").
   double bond_range = 1.0;
+  // Transfer anchors on the real specimens (map_sweep.h TransferAnchorPoints): 2 = the four
+  // of a two-level design, 3 = besides them nine at the edges and middle of the box. Stored
+  // maps that lack some for these real specimens (fewer levels, or anchored on specimens that
+  // MapsMatchPacking refuses) are completed before use: the missing anchors measured, stored.
+  int anchor_levels = 2;
   // Sweep points (and elastic runs) at once on each rank; 0 = hardware threads.
   int workers = 0;
 

@@ -167,22 +167,37 @@ bool SweepDesign::IsValid(std::string* error) const {
   return out.str().empty();
 }
 
-std::vector<MicroRatios> TransferAnchorPoints(const SweepDesign& design) {
+std::vector<MicroRatios> TransferAnchorPoints(const SweepDesign& design, int levels) {
   const int k = static_cast<int>(design.axes.size());
   std::vector<MicroRatios> points;
+  auto at = [&](const std::vector<double>& fractions) {
+    MicroRatios r = design.fixed;
+    for (int a = 0; a < k; ++a) SetRatioValue(&r, design.axes[a].ratio, design.axes[a].At(fractions[a]));
+    return r;
+  };
   for (int corner = 0; corner < (1 << k); ++corner) {
     int sign_product = 1;
-    MicroRatios r = design.fixed;
+    std::vector<double> f(k);
     for (int a = 0; a < k; ++a) {
       const bool high = (corner >> a) & 1;
       sign_product *= high ? 1 : -1;
-      const SweepAxis& axis = design.axes[a];
-      SetRatioValue(&r, axis.ratio, axis.At(high ? 0.75 : 0.25));
+      f[a] = high ? 0.75 : 0.25;
     }
     if (k >= 3 && sign_product < 0) continue;  // the half fraction
-    points.push_back(r);
+    points.push_back(at(f));
     if (points.size() == 4) break;
   }
+  if (levels < 3 || k == 0) return points;
+  // The three-level design: every pair of levels 0, 1/2, 1 of the first two axes once; a
+  // third axis at (i + j) mod 3 (a Latin square: every pair of levels of any two axes once).
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < (k >= 2 ? 3 : 1); ++j) {
+      std::vector<double> f(k, 0.5);
+      f[0] = 0.5 * i;
+      if (k >= 2) f[1] = 0.5 * j;
+      if (k >= 3) f[2] = 0.5 * ((i + j) % 3);
+      points.push_back(at(f));
+    }
   return points;
 }
 

@@ -81,8 +81,11 @@ SweepDesign DefaultSweepDesign(bool deformable, double particle_poisson_ratio = 
 // but keep their trends; the anchors measure the offset across the box, and every
 // calibration on these maps starts from surfaces corrected by them (surrogate.h). A
 // two-level design at 1/4 and 3/4 of each axis: 2^k points for k <= 2 axes, the half
-// fraction (the product of the signs +1) for k = 3, 4 points at most.
-std::vector<MicroRatios> TransferAnchorPoints(const SweepDesign& design);
+// fraction (the product of the signs +1) for k = 3, 4 points at most. With `levels` 3, besides
+// these, a three-level design at the edges and the middle of each axis (where the extremes of
+// sigma_c / sigma_t lie): the full 3 x 3 for k = 2, a Latin square of 9 points for k = 3 (every
+// pair of levels of any two axes once; further axes at their middle): 13 anchors in all.
+std::vector<MicroRatios> TransferAnchorPoints(const SweepDesign& design, int levels = 2);
 
 // The ratios as JSON (the keys of the map files).
 nlohmann::json SweepPointRatiosToJson(const MicroRatios& ratios);

@@ -140,11 +140,30 @@ double CalibrationSurrogate::MapTensilePerStrength(const MicroRatios& r) const {
   return std::exp(MapValue(kTensile, Inputs(r)));
 }
 
+double CalibrationSurrogate::RatioCorrection(const Anchor& a) const {
+  return grid_.valid() ? a.log_ratio - LogGridRatio(a.ratios) : a.delta[kCompressive] - a.delta[kTensile];
+}
+
 std::vector<double> CalibrationSurrogate::StoredStrengthRatioCorrections() const {
   std::vector<double> out;
   for (const Anchor& a : points_)
-    if (a.stored && a.has_strength)
-      out.push_back(grid_.valid() ? a.log_ratio - LogGridRatio(a.ratios) : a.delta[kCompressive] - a.delta[kTensile]);
+    if (a.stored && a.has_strength) out.push_back(RatioCorrection(a));
+  return out;
+}
+
+std::vector<double> CalibrationSurrogate::StoredStrengthRatioLeaveOneOut() const {
+  std::vector<double> out;
+  for (const Anchor& a : points_) {
+    if (!a.stored || !a.has_strength) continue;
+    double sum = 0.0, weights = 0.0;
+    for (const Anchor& b : points_) {
+      if (&b == &a || !b.stored || !b.has_strength) continue;
+      const double w = b.weight / ((a.scaled - b.scaled).squaredNorm() + kSmoothing * kSmoothing);
+      sum += w * RatioCorrection(b);
+      weights += w;
+    }
+    if (weights > 0.0) out.push_back(RatioCorrection(a) - sum / weights);
+  }
   return out;
 }
 

@@ -90,6 +90,9 @@ class CalibrationSurrogate {
   // grid), at each stored measurement with strengths: how far, and how uniformly, the ratio
   // transfers from the map specimens.
   std::vector<double> StoredStrengthRatioCorrections() const;
+  // The same corrections each minus what the other stored measurements predict for it (their
+  // Shepard mean at its point): the error of the corrected ratio where nothing was measured.
+  std::vector<double> StoredStrengthRatioLeaveOneOut() const;
   // The measurements stored with the maps, as given.
   const std::vector<SurrogateMeasurement>& stored_measurements() const { return stored_; }
 
@@ -118,6 +121,8 @@ class CalibrationSurrogate {
   // `line` through `inputs` left out; 0 when none.
   template <typename Value>
   double ShepardMean(const Eigen::VectorXd& inputs, bool elastic, const MicroRatio* line, Value value) const;
+  // ln(sigma_c / sigma_t) measured at `a` minus the grid's (the surfaces' without a grid).
+  double RatioCorrection(const Anchor& a) const;
   // ln of the grid's ratio on the real specimens, uncorrected.
   double LogGridRatio(const MicroRatios& ratios) const;
 

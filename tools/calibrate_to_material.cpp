@@ -71,6 +71,7 @@ struct CommandLine {
   std::optional<double> loading_arc;  // default: 0 bonded (flat platens), 30 lattice
   std::string lattice_map = "target";
   std::optional<int> sweep_levels;
+  int anchor_levels = 2;
   std::string honour = "compressive";
   std::string output = "out/calibration";
   std::string name = "calibration";
@@ -88,6 +89,7 @@ const FieldNames kOptionNames = {
     {"loading_rate_group", "--rate-group"},
     {"loading_arc_deg", "--loading-arc"},
     {"sweep_levels", "--sweep-levels"},
+    {"anchor_levels", "--anchor-levels"},
     {"workers", "--threads"},
     {"ucs_particles", "--count"},
     {"radius_ratio", "--radius-ratio"},
@@ -445,6 +447,10 @@ int main(int argc, char** argv) {
   app.add_option("--sweep-levels", cl.sweep_levels,
                  "levels of kt/kn in the map sweep (Rt/Rn and kn/(Ep l): one fewer, at least 3), 3 to 12; "
                  "default 4 (rigid), 3 (DDEM)");
+  app.add_option("--anchor-levels", cl.anchor_levels,
+                 "transfer anchors measured on the real specimens: 2 (four, a two-level design) or 3 (besides "
+                 "them nine at the edges and middle of the maps' box); stored maps with fewer are completed; "
+                 "default 2");
   app.add_option("--rate-group", cl.rate_group, "loading-rate group V / sqrt(kn/rho), default: run-test's");
   app.add_option("--loading-arc", cl.loading_arc,
                  "Brazilian test: the jaws' loading arc 2 alpha in degrees, 0 to 60 (0: flat platens); default 0 for "
@@ -470,7 +476,7 @@ int main(int argc, char** argv) {
       if (cl.dimension != 2) throw InputError("--model lattice: the six-spring lattice is 2D (--dimension 2)");
       // Settings of the bonded calibration that the lattice has no use for: refused, not ignored.
       for (const char* option : {"--threads", "--sweep-fraction",
-                                 "--sweep-levels", "--nu-p", "--friction", "--bond-range", "--max-spectral-radius",
+                                 "--sweep-levels", "--anchor-levels", "--nu-p", "--friction", "--bond-range", "--max-spectral-radius",
                                  "--honour"})
         if (app.count(option) > 0)
           throw InputError(std::string(option) + " is a setting of the bonded calibration, not of --model lattice");
@@ -495,6 +501,7 @@ int main(int argc, char** argv) {
     options.particle_poisson_ratio = cl.particle_poisson_ratio;
     options.friction_coefficient = cl.friction;
     options.bond_range = cl.bond_range;
+    options.anchor_levels = cl.anchor_levels;
     if (cl.rate_group) options.test.loading_rate_group = *cl.rate_group;
     if (cl.loading_arc) options.test.loading_arc_deg = *cl.loading_arc;
     if (cl.sweep_levels) {

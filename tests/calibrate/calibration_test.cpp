@@ -153,6 +153,46 @@ TEST(CalibrateToMaterial, RecoversAModelMadeTargetAndReusesItsMaps) {
   }
 }
 
+// Maps built on separate map specimens carry transfer anchors measured on the real ones: four
+// with anchor_levels 2. A later calibration that asks for 3 measures the nine it lacks once,
+// stores them with the maps, and the next finds them there (nothing measured).
+TEST(CalibrateToMaterial, StoredMapsAreCompletedWithTheTransferAnchorsAskedFor) {
+  static const CalibrationSpecimens<2> specimens = [] {
+    SpecimenPlan<2> plan;
+    plan.ucs_domain = "rectangle 0 0 0.01 0.01";
+    plan.ucs_particles = 300;
+    plan.sweep_fraction = 0.5;
+    plan.seed = 5;
+    return MakeCalibrationSpecimens<2>(plan);
+  }();
+  const ScratchDirectory scratch;
+  const fs::path maps = fs::path(scratch.path()) / "maps";
+  CalibrationOptions options = SmallOptions(maps);
+  options.max_verification_rounds = 1;
+  const TargetMaterial target = ModelMadeTarget();
+  auto anchors = [](const std::string& path) {
+    nlohmann::json j;
+    std::ifstream(path) >> j;
+    int n = 0;
+    for (const auto& v : j["verified"]) n += v["origin"] == "anchor" ? 1 : 0;
+    return n;
+  };
+  const CalibrationSummary built = CalibrateToMaterial<2>(specimens, target, options);
+  ASSERT_FALSE(built.maps_reused);
+  EXPECT_EQ(anchors(built.maps_path), 4);
+  options.anchor_levels = 3;
+  const CalibrationSummary completed = CalibrateToMaterial<2>(specimens, target, options);
+  EXPECT_TRUE(completed.maps_reused);
+  EXPECT_GT(completed.sweep_seconds, 0.0);  // the nine anchors, measured now
+  EXPECT_EQ(anchors(completed.maps_path), 13);
+  // Every stored measurement corrects the surfaces: the 13 anchors and the first run's.
+  EXPECT_EQ(completed.stored_measurements, 13 + static_cast<int>(built.solution.elastic_runs.size() +
+                                                                 built.solution.rounds.size()));
+  const CalibrationSummary again = CalibrateToMaterial<2>(specimens, target, options);
+  EXPECT_EQ(again.sweep_seconds, 0.0);
+  EXPECT_EQ(anchors(again.maps_path), 13);
+}
+
 // A summary whose every strength round failed (a verification run diverged): the report and
 // the files say which test failed, at which parameters and why; the failed rounds' scenes
 // repeat them with run-test; there is no result, so no parameters or scenes of a best round.
@@ -250,6 +290,14 @@ TEST(CalibrateToMaterial, InvalidOptionsAndTargetsAreRefusedBeforeAnyWork) {
     FAIL();
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("max_spectral_radius"), std::string::npos) << e.what();
+  }
+  for (auto [levels, file] : {std::pair<int, const char*>{4, ""}, {3, "maps.json"}}) {
+    options = CalibrationOptions();
+    options.anchor_levels = levels;
+    options.maps_file = file;
+    std::string error;
+    EXPECT_FALSE(options.IsValid(&error));
+    EXPECT_NE(error.find("anchor_levels = " + std::to_string(levels)), std::string::npos) << error;
   }
   TargetMaterial bad = good;
   bad.ucs_pa = 5e6;  // below the tensile strength

@@ -96,6 +96,46 @@ TEST(SweepDesign, TransferAnchorsSpanTheBoxAtItsQuarters) {
   EXPECT_EQ(pairs.size(), 4u);  // each (kt/kn, kn/(Ep l)) pair of levels once
 }
 
+// With three levels, nine anchors more at the edges and the middle of each axis: the full
+// 3 x 3 for two axes; for three, a Latin square (every pair of levels of any two axes once).
+TEST(SweepDesign, ThreeLevelTransferAnchorsAddTheEdgesAndTheMiddle) {
+  const SweepDesign rigid = DefaultSweepDesign(false);
+  const std::vector<MicroRatios> two = TransferAnchorPoints(rigid, 2);
+  const std::vector<MicroRatios> all = TransferAnchorPoints(rigid, 3);
+  ASSERT_EQ(all.size(), 13u);
+  for (size_t k = 0; k < two.size(); ++k)
+    EXPECT_DOUBLE_EQ(all[k].tangential_to_normal_stiffness, two[k].tangential_to_normal_stiffness);
+  std::set<std::pair<double, double>> grid;
+  for (size_t k = 4; k < all.size(); ++k)
+    grid.insert({all[k].tangential_to_normal_stiffness, all[k].shear_to_tensile_strength});
+  EXPECT_EQ(grid.size(), 9u);
+  for (double kt : {0.15, 0.525, 0.9})
+    for (double rt : {1.0, std::sqrt(10.0), 10.0}) {
+      bool found = false;
+      for (const auto& [a, b] : grid) found = found || (std::abs(a - kt) < 1e-12 && std::abs(b - rt) < 1e-9);
+      EXPECT_TRUE(found) << "kt/kn " << kt << ", Rt/Rn " << rt;
+    }
+  const SweepDesign deformable = DefaultSweepDesign(true, 0.45, 0.4);
+  const std::vector<MicroRatios> three = TransferAnchorPoints(deformable, 3);
+  ASSERT_EQ(three.size(), 13u);
+  auto level = [&](const MicroRatios& r, int axis) {
+    const SweepAxis& a = deformable.axes[axis];
+    const double v = RatioValue(r, a.ratio);
+    for (int l = 0; l < 3; ++l)
+      if (std::abs(v - a.At(0.5 * l)) <= 1e-9 * (1.0 + std::abs(v))) return l;
+    return -1;
+  };
+  for (int a = 0; a < 3; ++a)
+    for (int b = a + 1; b < 3; ++b) {
+      std::set<std::pair<int, int>> pairs;
+      for (size_t k = 4; k < three.size(); ++k) {
+        ASSERT_GE(level(three[k], a), 0);
+        pairs.insert({level(three[k], a), level(three[k], b)});
+      }
+      EXPECT_EQ(pairs.size(), 9u) << "axes " << a << ", " << b;
+    }
+}
+
 // A geometric axis: levels in equal ratios, and its JSON keeps the spacing.
 TEST(SweepDesign, GeometricAxisLevelsInEqualRatios) {
   const SweepDesign d = DefaultSweepDesign(false);

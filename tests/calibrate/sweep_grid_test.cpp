@@ -64,17 +64,27 @@ TEST(SweepGrid, AnUnmeasuredPointLeavesNoGrid) {
   EXPECT_FALSE(SweepGrid().valid());
 }
 
-TEST(SweepGrid, TheSurrogateCorrectsItByTheMeasurements) {
-  const SweepDesign design = Design();
-  const std::vector<SweepPoint> points = Points(design);
+// A 5,000-disc specimen's descriptors, the same for both tests, and the sweep of Points on it.
+PackingDescriptors Specimen() {
   PackingDescriptors specimen;
   specimen.dimension = 2, specimen.particles = 5000, specimen.porosity = 0.094, specimen.coordination = 5.83;
   specimen.mean_radius = 3.77e-4, specimen.radius_ratio = 9.0, specimen.mean_radius_squared = 1.3e-7;
   specimen.mean_branch_length = 6.6e-4, specimen.mean_branch_length_squared = 4.6e-7;
+  return specimen;
+}
+
+MapSweep Sweep(const SweepDesign& design) {
   MapSweep sweep;
-  sweep.points = points;
-  sweep.ucs_descriptors = sweep.bts_descriptors = specimen;
-  const MapSet maps = FitMaps(sweep, design, /*max_total_degree=*/2);
+  sweep.points = Points(design);
+  sweep.ucs_descriptors = sweep.bts_descriptors = Specimen();
+  return sweep;
+}
+
+TEST(SweepGrid, TheSurrogateCorrectsItByTheMeasurements) {
+  const SweepDesign design = Design();
+  const std::vector<SweepPoint> points = Points(design);
+  const PackingDescriptors specimen = Specimen();
+  const MapSet maps = FitMaps(Sweep(design), design, /*max_total_degree=*/2);
   CalibrationSurrogate surrogate(maps, specimen, specimen);
   const MicroRatios r = At(0.3, 0.2, 6.0);
   EXPECT_DOUBLE_EQ(surrogate.GridStrengthRatio(r), surrogate.StrengthRatio(r));  // no grid yet
@@ -89,6 +99,43 @@ TEST(SweepGrid, TheSurrogateCorrectsItByTheMeasurements) {
   m.ucs_per_strength = 1.2 * std::exp(LogRatio(m.ratios));
   surrogate.AddMeasurement(m, /*stored=*/false);
   EXPECT_NEAR(surrogate.GridStrengthRatio(r) / std::exp(LogRatio(r)), 1.2, 1e-9);
+}
+
+// The leave-one-out errors of the correction: none where every stored measurement is off the
+// grid by the same factor; where one is off by 30 % more than the rest, that one's is about
+// ln 1.3 (the others predict it) and the others' small.
+TEST(SweepGrid, LeaveOneOutErrorsOfTheCorrectionAtTheStoredMeasurements) {
+  const SweepDesign design = Design();
+  const PackingDescriptors specimen = Specimen();
+  auto surrogate_with = [&](double outlier) {
+    CalibrationSurrogate s(FitMaps(Sweep(design), design, 2), specimen, specimen);
+    s.SetSweepGrid(SweepGrid(design, Points(design)));
+    const std::vector<MicroRatios> anchors = TransferAnchorPoints(design, 3);
+    for (size_t k = 0; k < anchors.size(); ++k) {
+      SurrogateMeasurement m;
+      m.ratios = anchors[k];
+      m.tensile_per_strength = 1.0;
+      m.ucs_per_strength = 0.8 * (k == 6 ? outlier : 1.0) * std::exp(LogRatio(m.ratios));
+      s.AddMeasurement(m, /*stored=*/true);
+    }
+    // A run of this calibration (not stored) takes no part.
+    SurrogateMeasurement run;
+    run.ratios = At(0.3, 0.2, 6.0);
+    run.tensile_per_strength = 1.0;
+    run.ucs_per_strength = 3.0 * std::exp(LogRatio(run.ratios));
+    s.AddMeasurement(run, /*stored=*/false);
+    return s;
+  };
+  const std::vector<double> uniform = surrogate_with(1.0).StoredStrengthRatioLeaveOneOut();
+  ASSERT_EQ(uniform.size(), 13u);
+  for (double e : uniform) EXPECT_NEAR(e, 0.0, 1e-9);
+  const std::vector<double> one_off = surrogate_with(1.3).StoredStrengthRatioLeaveOneOut();
+  ASSERT_EQ(one_off.size(), 13u);
+  EXPECT_NEAR(one_off[6], std::log(1.3), 1e-9);
+  for (size_t k = 0; k < one_off.size(); ++k)
+    if (k != 6) {
+      EXPECT_LT(std::abs(one_off[k]), 0.5 * std::log(1.3)) << k;
+    }
 }
 
 }  // namespace

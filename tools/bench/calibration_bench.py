@@ -4,13 +4,16 @@ CSV files and a plot of the error of every property against the strength round.
 
   tools/bench/calibration_bench.py [--build build] [--out bench-out/calibration]
         [--twins 16] [--ddem-twins 6] [--first-twin 1] [--pick 4,9] [--twins-3d 0] [--count-3d 20000] [--seed 1]
-        [--only maps,twins,published,3d] [--reuse-shipped-maps]
+        [--only maps,twins,published,3d] [--reuse-shipped-maps] [--anchor-levels 2]
 
 1. Maps (unless --reuse-shipped-maps): the bundled Labra rock (2D, rigid) and the bundled
    nu 0.27 rock (2D, DDEM) calibrated from an empty map directory: maps built (sweep and
    transfer anchors) and the calibration, timed. Target: <= 12 min each. The maps they
    build, stripped of the two calibrations' own runs (only the transfer anchors stay), are
    the master maps of what follows; with --reuse-shipped-maps the master is data/maps.
+   --anchor-levels 3: the maps built with 13 transfer anchors, or the shipped ones completed
+   to them (one round of each bundled rock measures the anchors they lack; its own runs are
+   stripped); `--only maps --reuse-shipped-maps --anchor-levels 3` makes OUT/maps_master so.
 2. Twin experiments: targets made by forward runs (run-test: the elastic run, the UCS and
    the Brazilian test, as the calibrator runs them) at hidden micro parameters drawn across
    the admissible box, rigid and DDEM, on the calibrator's own default specimens. The
@@ -313,6 +316,9 @@ def main():
     parser.add_argument("--markdown", help="the page of tables to write (default OUT/calibration_bench.md)")
     parser.add_argument("--reuse-shipped-maps", action="store_true",
                         help="the master maps are data/maps (no maps-built case)")
+    parser.add_argument("--anchor-levels", type=int, choices=(2, 3), default=2,
+                        help="transfer anchors of the master maps (calibrate-to-material --anchor-levels): the "
+                             "maps built with them, or the shipped ones completed to them")
     args = parser.parse_args()
     cases = set(c.strip() for c in args.only.split(","))
     unknown = cases - {"maps", "twins", "published", "3d"}
@@ -345,7 +351,7 @@ def main():
         for label, material in (("2D Labra rock, maps built (rigid)", "labra2012_rock.toml"),
                                 ("2D nu 0.27 rock, maps built (DDEM)", "high_poisson_2d.toml")):
             r = calibrate(build, os.path.join(materials, material), os.path.join(out, "maps_built"),
-                          material.split(".")[0], master)
+                          material.split(".")[0], master, ["--anchor-levels", str(args.anchor_levels)])
             built.append(row_of(label, r))
             reports.append((label, r))
             print("%s: %.0f s in all, of which maps %.0f s" % (label, r["wall_seconds"], r["maps"]["sweep_wall_time_s"]))
@@ -356,6 +362,15 @@ def main():
         shutil.rmtree(master, ignore_errors=True)
         shutil.copytree(os.path.join(ROOT, "data", "maps"), master)
         strip_to_anchors(master)
+        if args.anchor_levels > 2:
+            # Completed by one round of each bundled rock (the anchors they lack measured first),
+            # whose own runs are then stripped again.
+            for model, material in (("rigid", "labra2012_rock.toml"), ("ddem", "high_poisson_2d.toml")):
+                r = calibrate(build, os.path.join(materials, material), os.path.join(out, "maps_completed"), model,
+                              master, ["--model", model, "--rounds", "1", "--anchor-levels", str(args.anchor_levels)])
+                print("master maps (%s) completed to anchor levels %d: %.0f s of anchors" % (
+                    model, args.anchor_levels, r["maps"]["sweep_wall_time_s"]), flush=True)
+            strip_to_anchors(master)
 
     # The calibrator's own specimens, as written by a calibration (deterministic generation).
     reference = os.path.join(out, "reference")

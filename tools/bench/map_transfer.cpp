@@ -68,7 +68,23 @@ int Run(const std::string& maps_path, const std::string& ucs_path, const std::st
   if (header != expected) throw InputError(points_path + ": the header must be label,kt_over_kn,kn_over_ep_l,"
                                                          "rt_over_rn,ucs_pa,tensile_strength_pa");
   // Printed only once every line has been read: a bad line leaves no partial table.
-  std::string table = "label,measured,surfaces,surfaces_corrected,grid,grid_corrected,stored_measurements\n";
+  // Two estimates of the corrected ratio's error where nothing was measured, to set beside the
+  // errors measured: the spread of the stored corrections about their mean (the transfer
+  // uncertainty the reach widens its interval by, calibration_solver.h) and their leave-one-out
+  // error (surrogate.h), root mean square.
+  double spread = 0.0, leave_one_out = 0.0;
+  {
+    const std::vector<double> d = surrogate.StoredStrengthRatioCorrections();
+    const std::vector<double> l = surrogate.StoredStrengthRatioLeaveOneOut();
+    double mean = 0.0;
+    for (double v : d) mean += v / static_cast<double>(d.size());
+    for (double v : d) spread = std::max(spread, std::abs(v - mean));
+    for (double v : l) leave_one_out += v * v / static_cast<double>(l.size());
+    leave_one_out = std::sqrt(leave_one_out);
+  }
+  std::string table =
+      "label,measured,surfaces,surfaces_corrected,grid,grid_corrected,stored_measurements,"
+      "correction_spread,correction_leave_one_out_rms\n";
   int row = 1;
   while (std::getline(in, line)) {
     ++row;
@@ -95,9 +111,9 @@ int Run(const std::string& maps_path, const std::string& ucs_path, const std::st
     r.shear_to_tensile_strength = number(3, false);
     const double measured = number(4, false) / number(5, false);
     char line_out[512];
-    std::snprintf(line_out, sizeof line_out, "%s,%.6g,%.6g,%.6g,%.6g,%.6g,%d\n", f[0].c_str(), measured,
-                surrogate.MapUcsPerStrength(r) / surrogate.MapTensilePerStrength(r), surrogate.StrengthRatio(r),
-                surrogate.MapGridStrengthRatio(r), surrogate.GridStrengthRatio(r), stored);
+    std::snprintf(line_out, sizeof line_out, "%s,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.6g,%.6g\n", f[0].c_str(), measured,
+                  surrogate.MapUcsPerStrength(r) / surrogate.MapTensilePerStrength(r), surrogate.StrengthRatio(r),
+                  surrogate.MapGridStrengthRatio(r), surrogate.GridStrengthRatio(r), stored, spread, leave_one_out);
     table += line_out;
   }
   std::fputs(table.c_str(), stdout);

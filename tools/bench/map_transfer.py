@@ -120,7 +120,10 @@ def main():
                 name, len(rows), label, 100 * statistics.median(absolute),
                 100 * math.sqrt(statistics.fmean(e * e for e in errors)), 100 * max(absolute),
                 sum(1 for a in absolute if a <= math.log(1.05)), len(rows)))
-        lines.append("| | | (stored measurements with the maps: %s) | | | | |" % rows[0]["stored_measurements"])
+        lines.append("| | | (stored measurements with the maps: %s; the spread of their corrections, the reach's "
+                     "transfer uncertainty: %.1f %%; their leave-one-out error, rms: %.1f %%) | | | | |" % (
+                         rows[0]["stored_measurements"], 100 * float(rows[0]["correction_spread"]),
+                         100 * float(rows[0]["correction_leave_one_out_rms"])))
     text = "\n".join(lines)
     print(text)
     with open(args.markdown or os.path.join(out, "map_transfer.md"), "w") as f:

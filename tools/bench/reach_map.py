@@ -44,6 +44,7 @@ failure Rn / (kn l), l the UCS specimen's volume-mean radius (run-test's l in 3D
   ddem, ddem_range  deformable particles, nu_p 0.45, kn/(Ep l) at 0.85 of the admissible bound
                of both specimens (with the bonds at range for ddem_range): kt/kn 0.05, 0.3, 0.6
                x Rt/Rn 1, 4, 16
+  rigid_jaws   the rigid grid with the Brazilian test between 30-degree jaws (as in 2D)
 
 A model's region is, at each of its elastic sets (one nu), the interval of the ratio over its
 strength parameters. The map is measured, not taken from the calibration maps: the map
@@ -79,7 +80,7 @@ MODELS = {
     "lattice": "six-spring lattice",
 }
 DIMENSION_MODELS = {2: ("rigid", "moment", "ddem", "rigid_jaws", "ddem_jaws", "lattice"),
-                    3: ("rigid", "rigid_range", "ddem", "ddem_range")}
+                    3: ("rigid", "rigid_range", "ddem", "ddem_range", "rigid_jaws")}
 DEFAULT_MODELS = {2: "rigid,moment,ddem,lattice", 3: "rigid,rigid_range,ddem_range"}
 LOADING_ARC = 30.0  # the jaws of the *_jaws models [degrees]
 BOND_RANGE = 1.4  # gamma of the *_range models
@@ -386,7 +387,7 @@ def plot(table, rows, rocks, png, target, title, nu_label):
     """Regions as filled polygons (lower envelope over nu, then the upper one back), the
     measured points, the target rectangle and the published rocks."""
     base = os.path.splitext(png)[0]
-    colours = {"rigid": "#4060a0", "rigid_range": "#2090a0", "moment": "#40a060", "ddem": "#d08020",
+    colours = {"rigid": "#4060a0", "rigid_range": "#60a040", "moment": "#40a060", "ddem": "#d08020",
                "ddem_range": "#b03060", "rigid_jaws": "#20a0c0", "ddem_jaws": "#c04020", "lattice": "#a040a0"}
     (nu_low, nu_high), (ratio_low, ratio_high) = target
     drawn = [m for m in MODELS if table.get(m)]
@@ -527,7 +528,8 @@ def main():
         nu_label = "nu"
         described = "%s-sphere UCS %s and %s-sphere Brazilian disc" % (
             "{:,}".format(specimens[0]["particles"]), specimens[0]["shape"], "{:,}".format(specimens[1]["particles"]))
-        title = "Reach on the 3D specimens (%s), measured" % described
+        title = "Reach on the 3D specimens (%s-sphere UCS, %s-sphere Brazilian), measured" % (
+            "{:,}".format(specimens[0]["particles"]), "{:,}".format(specimens[1]["particles"]))
     plot(table, rows, rocks, png, target, title, nu_label)
 
     minutes = ("%.0f minutes for what it measured" % ((time.monotonic() - start) / 60) if measured
@@ -555,7 +557,7 @@ def main():
         flags += " --quick" if args.quick else ""
         md = ["# Reach map (3D, %s)" % described, "",
               "Reproduce: `python3 tools/bench/reach_map.py%s` (%s). Every point is the elastic run, the UCS and the "
-              "Brazilian test (flat platens) of run-test on the %s; kn / l = %g Pa and Rn / (kn l) = %.3g, the 2D "
+              "Brazilian test (flat platens; rigid_jaws: between 30-degree jaws) of run-test on the %s; kn / l = %g Pa and Rn / (kn l) = %.3g, the 2D "
               "grid's, with l = %.3g mm the UCS specimen's volume-mean radius; the grids are in the script's header." % (
                   flags, minutes, described, KN, RN / (KN * cb.MEAN_RADIUS_2D), 1e3 * specimens[0]["volume_mean_radius"])]
         picture = os.path.relpath(os.path.abspath(args.picture) if args.picture else png, os.path.dirname(page))
