@@ -155,7 +155,8 @@ TEST(CalibrateToMaterial, RecoversAModelMadeTargetAndReusesItsMaps) {
 
 // Maps built on separate map specimens carry transfer anchors measured on the real ones: four
 // with anchor_levels 2. A later calibration that asks for 3 measures the nine it lacks once,
-// stores them with the maps, and the next finds them there (nothing measured).
+// stores them with the maps, and the next finds them there (nothing measured). Anchors of other
+// real specimens do not count.
 TEST(CalibrateToMaterial, StoredMapsAreCompletedWithTheTransferAnchorsAskedFor) {
   static const CalibrationSpecimens<2> specimens = [] {
     SpecimenPlan<2> plan;
@@ -191,6 +192,18 @@ TEST(CalibrateToMaterial, StoredMapsAreCompletedWithTheTransferAnchorsAskedFor) 
   const CalibrationSummary again = CalibrateToMaterial<2>(specimens, target, options);
   EXPECT_EQ(again.sweep_seconds, 0.0);
   EXPECT_EQ(anchors(again.maps_path), 13);
+
+  // Anchors stored for real specimens of another kind (porosity 0.05 off: MapsMatchPacking
+  // refuses them) do not count for these: the four of the default design are measured here.
+  nlohmann::json j;
+  std::ifstream(again.maps_path) >> j;
+  for (auto& v : j["verified"]) v["specimen"]["porosity"] = v["specimen"]["porosity"].get<double>() + 0.05;
+  std::ofstream(again.maps_path) << j.dump();
+  options.anchor_levels = 2;
+  const CalibrationSummary elsewhere = CalibrateToMaterial<2>(specimens, target, options);
+  EXPECT_GT(elsewhere.sweep_seconds, 0.0);
+  EXPECT_EQ(anchors(elsewhere.maps_path), 17);
+  EXPECT_EQ(elsewhere.stored_measurements, 4);  // only the new anchors correct the surfaces
 }
 
 // A summary whose every strength round failed (a verification run diverged): the report and
