@@ -281,8 +281,8 @@ double CalibrationSolver::RatioUncertainty() const {
   return spread;
 }
 
-bool CalibrationSolver::DeformableStart(double poisson, double avoid, MicroRatios* start, double* ratio_min,
-                                        double* ratio_max) const {
+bool CalibrationSolver::DeformableStart(double poisson, const std::vector<double>& avoid, MicroRatios* start,
+                                        double* ratio_min, double* ratio_max) const {
   const MicroRatio kStiffness = MicroRatio::kStiffnessRatio, kCompliance = MicroRatio::kParticleCompliance;
   const double s_lo = surrogate_.Lower(kStiffness), s_hi = surrogate_.Upper(kStiffness);
   const double target_ratio = target_.StrengthRatio();
@@ -293,7 +293,11 @@ bool CalibrationSolver::DeformableStart(double poisson, double avoid, MicroRatio
   bool any = false;
   for (int k = 0; k <= kSamples; ++k) {
     const double s = s_lo + (s_hi - s_lo) * k / kSamples;
-    if (avoid >= 0.0 && std::abs(s - avoid) <= 0.05 * (s_hi - s_lo)) continue;
+    // A set already tried is not tried again, nor a sample nearer to one than the sampling step.
+    constexpr double kAvoidRadius = 0.05;
+    if (std::any_of(avoid.begin(), avoid.end(),
+                    [&](double a) { return std::abs(s - a) < kAvoidRadius * (s_hi - s_lo) - 1e-12; }))
+      continue;
     const MicroRatios at_s = With(base_, kStiffness, s);
     bool found = false;
     const double c = Root([&](double v) { return surrogate_.Poisson(With(at_s, kCompliance, v)) - poisson; }, 0.0,
@@ -386,7 +390,7 @@ const CalibrationReach& CalibrationSolver::AssessReach() {
         reach_.region.push_back({Get(r, kStiffness), Get(r, kCompliance), surrogate_.Poisson(r),
                                  StrengthRatioMin(r, &unused), StrengthRatioMax(r, &unused)});
       }
-    if (!DeformableStart(reach_.nearest_poisson, -1.0, &reach_.start, &reach_.strength_ratio_min,
+    if (!DeformableStart(reach_.nearest_poisson, {}, &reach_.start, &reach_.strength_ratio_min,
                          &reach_.strength_ratio_max)) {
       // nu out of reach: the corner closest to it.
       const bool high = reach_.nearest_poisson >= 0.5 * (reach_.poisson_min + reach_.poisson_max);
@@ -543,6 +547,7 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
   bool tensile_honoured = reach_.strength_ratio_possible;
   bool ratio_measured_in_reach = false;  // a round met sigma_c / sigma_t within the slack
   int line_id = 0;                       // the current elastic set
+  std::vector<double> tried_stiffness_ratios = {Get(set.ratios, MicroRatio::kStiffnessRatio)};  // of every set
   std::vector<StrengthRound>& rounds = solution->rounds;
 
   // ln(sigma / Rn) off this line's own measurements: the corrected surfaces with their ratio
@@ -920,12 +925,19 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
           const double end = star_x;
           if (measured_at_end) {
             MicroRatios next_start;
-            double unused_lo = 0.0, unused_hi = 0.0;
+            double others_lo = 0.0, others_hi = 0.0;
             constexpr int kMaxReplans = 2;
+            // Another kt/kn is worth its elastic stage when the corrected maps put the target
+            // within their transfer uncertainty there, the test the reach applies before round 1
+            // (the maps were just measured wrong at this set, so the tolerance alone would trust
+            // them more than the reach did): the one that holds it with the largest margin, among
+            // the sets not tried. The rounds here correct those intervals as one point does
+            // (CalibrationSurrogate::Decluster).
+            const double band = slack + RatioUncertainty();
             if (reach_.deformable && solution->replans < kMaxReplans &&
-                DeformableStart(set.confirmed.poisson_ratio, Get(set.ratios, MicroRatio::kStiffnessRatio),
-                                &next_start, &unused_lo, &unused_hi) &&
-                log_ratio >= std::log(unused_lo) - slack && log_ratio <= std::log(unused_hi) + slack) {
+                DeformableStart(set.confirmed.poisson_ratio, tried_stiffness_ratios, &next_start,
+                                &others_lo, &others_hi) &&
+                log_ratio >= std::log(others_lo) - band && log_ratio <= std::log(others_hi) + band) {
               const std::string why =
                   "round " + std::to_string(round) + ": sigma_c / sigma_t is out of reach at kt/kn " +
                   Number("%.4g", Get(set.ratios, MicroRatio::kStiffnessRatio)) + " (measured " +
@@ -937,7 +949,9 @@ void CalibrationSolver::StrengthStage(ElasticSet set, CalibrationSolution* solut
                 set = ElasticStage(next_start);
                 replan = true;
                 solution->notes.push_back(why + "the elastic stage re-runs at kt/kn " + other_kt +
-                                          ", where the corrected maps reach it");
+                                          " (the corrected maps give " + Number("%.3f", others_lo) + " to " +
+                                          Number("%.3f", others_hi) + " at this nu over the kt/kn not tried)");
+                tried_stiffness_ratios.push_back(Get(set.ratios, MicroRatio::kStiffnessRatio));
                 ++solution->replans;
                 ++line_id;
               } catch (const ComputationError& e) {

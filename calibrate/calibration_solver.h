@@ -187,8 +187,10 @@ class CalibrationSolver {
   };
   ElasticSet ElasticStage(const MicroRatios& start);
   // DDEM: the kt/kn (with the kn/(Ep l) that gives nu) whose interval of sigma_c / sigma_t
-  // holds the target with the largest margin; false when no kt/kn can give nu.
-  bool DeformableStart(double poisson, double avoid_stiffness_ratio, MicroRatios* start, double* ratio_min,
+  // holds the target with the largest margin; kt/kn within 5 % of the box of one in `avoid` is
+  // not considered. ratio_min, ratio_max: the ratio's extremes over those considered.
+  // False when no kt/kn can give nu.
+  bool DeformableStart(double poisson, const std::vector<double>& avoid, MicroRatios* start, double* ratio_min,
                        double* ratio_max) const;
   double RatioUncertainty() const;
   ElasticMeasurement RunElastic(const MicroRatios& ratios, double kn, const std::string& purpose);

@@ -64,6 +64,29 @@ void CalibrationSurrogate::AddMeasurement(const SurrogateMeasurement& m, bool st
   a.ratios = m.ratios;
   if (a.has_elastic || a.has_strength) points_.push_back(a);
   if (stored) stored_.push_back(m);
+  Decluster();
+}
+
+// The rounds of a calibration cluster at one elastic set (its strength rounds differ in Rt/Rn
+// and mu only), and they share that set's error of the maps. Counted one by one they would
+// outweigh every other anchor away from the set, however far: cell declustering gives each
+// elastic point the weight of its heaviest anchor, shared in proportion to the anchors' own.
+void CalibrationSurrogate::Decluster() {
+  auto same_elastic_point = [this](const Anchor& a, const Anchor& b) {
+    for (Eigen::Index k = 0; k < a.scaled.size(); ++k)
+      if (!strength_only_[k] && std::abs(a.scaled[k] - b.scaled[k]) > 1e-9) return false;
+    return true;
+  };
+  for (Anchor& a : points_) {
+    double elastic_sum = 0.0, elastic_max = 0.0, strength_sum = 0.0, strength_max = 0.0;
+    for (const Anchor& b : points_) {
+      if (!same_elastic_point(a, b)) continue;
+      if (b.has_elastic) elastic_sum += b.weight, elastic_max = std::max(elastic_max, b.weight);
+      if (b.has_strength) strength_sum += b.weight, strength_max = std::max(strength_max, b.weight);
+    }
+    a.elastic_share = a.has_elastic ? elastic_max / elastic_sum : 1.0;
+    a.strength_share = a.has_strength ? strength_max / strength_sum : 1.0;
+  }
 }
 
 template <typename Value>
@@ -85,7 +108,7 @@ double CalibrationSurrogate::ShepardMean(const Eigen::VectorXd& x, bool elastic,
       if (k != line_input) off_line += d;
     }
     if (line && off_line <= 1e-18) continue;  // on the line
-    const double w = a.weight / (d2 + kSmoothing * kSmoothing);
+    const double w = a.weight * (elastic ? a.elastic_share : a.strength_share) / (d2 + kSmoothing * kSmoothing);
     sum += w * value(a);
     weights += w;
   }

@@ -111,8 +111,13 @@ class CalibrationSurrogate {
     double log_ratio = 0.0;  // ln(sigma_c / sigma_t) measured, with has_strength
     bool has_elastic = false, has_strength = false;
     double weight = 1.0;
+    // weight's share of its elastic point's (the anchors, with elastic or with strength data, at
+    // the same kt/kn, kn/(Ep l), ...): see Decluster.
+    double elastic_share = 1.0, strength_share = 1.0;
     bool stored = false;
   };
+  // The shares above, after each measurement: an elastic point weighs as its heaviest anchor.
+  void Decluster();
   Eigen::VectorXd Inputs(const MicroRatios& ratios) const;  // clamped to the box
   Eigen::VectorXd Scaled(const Eigen::VectorXd& inputs) const;
   double MapValue(Quantity q, const Eigen::VectorXd& inputs) const;

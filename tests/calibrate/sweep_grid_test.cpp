@@ -101,6 +101,30 @@ TEST(SweepGrid, TheSurrogateCorrectsItByTheMeasurements) {
   EXPECT_NEAR(surrogate.GridStrengthRatio(r) / std::exp(LogRatio(r)), 1.2, 1e-9);
 }
 
+// Five rounds at one elastic set (Rt/Rn 3 to 8), 20 % below the grid, and one measurement at
+// another kt/kn, 20 % above: halfway between the sets the five share one point's weight (the
+// correction leans to the single one, which is nearer in Rt/Rn); at the rounds' set, theirs.
+TEST(SweepGrid, RoundsAtOneElasticSetCountAsOnePointAwayFromIt) {
+  const SweepDesign design = Design();
+  const PackingDescriptors specimen = Specimen();
+  CalibrationSurrogate surrogate(FitMaps(Sweep(design), design, 2), specimen, specimen);
+  surrogate.SetSweepGrid(SweepGrid(design, Points(design)));
+  auto add = [&](const MicroRatios& r, double factor) {
+    SurrogateMeasurement m;
+    m.ratios = r;
+    m.tensile_per_strength = 1.0;
+    m.ucs_per_strength = factor * std::exp(LogRatio(r));
+    surrogate.AddMeasurement(m, /*stored=*/false);
+  };
+  for (double x : {3.0, 4.0, 5.0, 6.5, 8.0}) add(At(0.5, 0.2, x), 0.8);
+  add(At(0.2, 0.2, 5.0), 1.2);
+  auto correction = [&](const MicroRatios& r) { return std::log(surrogate.GridStrengthRatio(r)) - LogRatio(r); };
+  const double halfway = correction(At(0.35, 0.2, 5.0));
+  EXPECT_GT(halfway, 0.5 * (std::log(1.2) + std::log(0.8)));  // counted one by one: -0.16
+  EXPECT_LT(halfway, std::log(1.2));
+  EXPECT_NEAR(correction(At(0.5, 0.2, 5.0)), std::log(0.8), 0.01);
+}
+
 // The leave-one-out errors of the correction: none where every stored measurement is off the
 // grid by the same factor; where one is off by 30 % more than the rest, that one's is about
 // ln 1.3 (the others predict it) and the others' small.
