@@ -5,7 +5,7 @@ CSV, JSON and a picture.
 
   tools/bench/reach_map.py [--build build] [--dimension 2] [--out bench-out/reach] [--packings UCS BTS]
         [--models rigid,moment,ddem,lattice] [--markdown PATH] [--picture PATH] [--quick] [--reuse JSON]
-        [--lattice-map JSON]
+        [--lattice-map JSON] [--bond-strain FACTOR]
 
 The specimens: the calibrator's own 5,064-disc UCS square and 3,940-disc Brazilian disc
 (--packings, or bench-out/calibration/reference/ when the calibration bench made them, or
@@ -34,7 +34,9 @@ or the 5,142-sphere UCS cylinder and 1,442-sphere Brazilian disc of the first 3D
 calibration bench (bench-out/calibration3d/twin3d_01/; `calibration_bench.py --only 3d --twins-3d 1
 --count-3d 5000 --out bench-out/calibration3d` makes them). nu is the 3D one; the Brazilian test has flat
 platens, the calibrator's bonded default. kn and Rn keep the 2D grid's kn / l and bond strain at
-failure Rn / (kn l), l the UCS specimen's volume-mean radius (run-test's l in 3D). The grids
+failure Rn / (kn l), l the UCS specimen's volume-mean radius (run-test's l in 3D); --bond-strain
+FACTOR multiplies Rn, and so that strain, in either dimension (in 3D the ratio of bonded spheres
+moves with it). The grids
 (default models rigid, rigid_range, ddem_range):
 
   rigid        contact bonds: kt/kn 0.1, 0.3, 0.6, 0.9 x Rt/Rn 0.5, 2, 6, 20
@@ -195,14 +197,14 @@ def read_packing(path):
     return info
 
 
-def scales(dimension, packing):
+def scales(dimension, packing, bond_strain=1.0):
     """kn, Rn and l of the grids: in 2D per metre of thickness (l = 1 m); in 3D on spheres of
     the UCS specimen's volume-mean radius l, the 2D grid's kn / l and bond strain at failure
-    Rn / (kn l) (of 2D discs of cb.MEAN_RADIUS_2D)."""
+    Rn / (kn l) (of 2D discs of cb.MEAN_RADIUS_2D). `bond_strain` multiplies Rn (--bond-strain)."""
     if dimension == 2:
-        return KN, RN, 1.0
+        return KN, RN * bond_strain, 1.0
     length = read_packing(packing)["volume_mean_radius"]
-    return KN * length, RN * length ** 2 / cb.MEAN_RADIUS_2D, length
+    return KN * length, bond_strain * RN * length ** 2 / cb.MEAN_RADIUS_2D, length
 
 
 def ends(values, quick):
@@ -224,12 +226,12 @@ def lattice_map_rows(path):
     return rows
 
 
-def measure(build, packings, models, out, quick=False, known=(), dimension=2):
+def measure(build, packings, models, out, quick=False, known=(), dimension=2, bond_strain=1.0):
     """Every point of every model's grid: rows of (model, elastic set, strength set, nu, ratio).
     `known`: rows of an earlier run, whose flat-platen UCS and nu the *_jaws models take."""
     rows = []
     runs = os.path.join(out, "runs")
-    kn, rn, length = scales(dimension, packings[0])
+    kn, rn, length = scales(dimension, packings[0], bond_strain)
 
     def flat_row(model, s, x):
         """The flat-platen model's measured row of this point (this run first), or None."""
@@ -443,7 +445,13 @@ def main():
     parser.add_argument("--reuse", metavar="JSON",
                         help="an earlier run's reach_map.json: the points of the models not in --models are "
                              "taken from it (the page says which)")
+    parser.add_argument("--bond-strain", type=float, default=1.0, metavar="FACTOR",
+                        help="multiplies Rn, and so the bond strain at failure Rn / (kn l), of every grid "
+                             "(default 1: 2D Rn %g N/m, kn %g N/m/m); in 3D the ratio of bonded spheres moves with "
+                             "it" % (RN, KN))
     args = parser.parse_args()
+    if not (args.bond_strain > 0.0):
+        parser.error("--bond-strain: %g, must be > 0" % args.bond_strain)
     dimension = args.dimension
     args.models = args.models or DEFAULT_MODELS[dimension]
     args.out = args.out or ("bench-out/reach" if dimension == 2 else "bench-out/reach3d")
@@ -463,6 +471,9 @@ def main():
             before = json.load(f)
         if before.get("dimension", 2) != dimension:
             parser.error("--reuse: %s is a %dD map" % (args.reuse, before.get("dimension", 2)))
+        if before.get("bond_strain", 1.0) != args.bond_strain:
+            parser.error("--reuse: %s was measured with --bond-strain %g, not %g" % (
+                args.reuse, before.get("bond_strain", 1.0), args.bond_strain))
         earlier = before["points"]
     build, out = os.path.abspath(args.build), os.path.abspath(args.out)
 
@@ -493,7 +504,8 @@ def main():
 
     start = time.monotonic()
     measured = [m for m in models if not (m == "lattice" and args.lattice_map)]
-    rows = measure(build, packings, measured, out, args.quick, known=earlier, dimension=dimension)
+    rows = measure(build, packings, measured, out, args.quick, known=earlier, dimension=dimension,
+                   bond_strain=args.bond_strain)
     if "lattice" in models and args.lattice_map:
         rows += lattice_map_rows(args.lattice_map)
     reused = []
@@ -516,7 +528,9 @@ def main():
             f.write(",".join(str(r.get(k, "")) for k in fields) + "\n")
     with open(os.path.join(out, "reach_map.json"), "w") as f:
         # 2D maps carry no dimension (those written before 3D had none).
-        json.dump(dict({"dimension": 3} if dimension == 3 else {}, specimens=packings, points=rows, regions=table,
+        json.dump(dict({"dimension": 3} if dimension == 3 else {},
+                       **({"bond_strain": args.bond_strain} if args.bond_strain != 1.0 else {}),
+                       specimens=packings, points=rows, regions=table,
                        published_rocks=rocks, target={"poisson_ratio": target[0], "strength_ratio": target[1]},
                        target_covered_share=share), f, indent=1)
     png = os.path.join(out, "reach_map.png")
@@ -543,6 +557,7 @@ def main():
               "3,940-disc Brazilian disc; the grids are in the script's header." % (
                   "".join(" --%s %s" % (k.replace("_", "-"), v) for k, v in (
                       ("models", args.models if args.models != DEFAULT_MODELS[2] else None),
+                      ("bond_strain", "%g" % args.bond_strain if args.bond_strain != 1.0 else None),
                       ("reuse", args.reuse and os.path.relpath(os.path.abspath(args.reuse), ROOT)),
                       ("lattice_map", args.lattice_map and os.path.relpath(os.path.abspath(args.lattice_map), ROOT)))
                       if v), minutes)]
@@ -552,14 +567,17 @@ def main():
         flags = " --dimension 3"
         flags += " --packings %s %s" % tuple(shown(p) for p in packings) if args.packings else ""
         flags += " --models " + args.models if args.models != DEFAULT_MODELS[3] else ""
+        flags += " --bond-strain %g" % args.bond_strain if args.bond_strain != 1.0 else ""
         for name, path in (("markdown", args.markdown), ("picture", args.picture), ("reuse", args.reuse)):
             flags += " --%s %s" % (name, shown(path)) if path else ""
         flags += " --quick" if args.quick else ""
         md = ["# Reach map (3D, %s)" % described, "",
               "Reproduce: `python3 tools/bench/reach_map.py%s` (%s). Every point is the elastic run, the UCS and the "
-              "Brazilian test (flat platens; rigid_jaws: between 30-degree jaws) of run-test on the %s; kn / l = %g Pa and Rn / (kn l) = %.3g, the 2D "
-              "grid's, with l = %.3g mm the UCS specimen's volume-mean radius; the grids are in the script's header." % (
-                  flags, minutes, described, KN, RN / (KN * cb.MEAN_RADIUS_2D), 1e3 * specimens[0]["volume_mean_radius"])]
+              "Brazilian test (flat platens; rigid_jaws: between 30-degree jaws) of run-test on the %s; kn / l = %g Pa and Rn / (kn l) = %.3g, %s"
+              ", with l = %.3g mm the UCS specimen's volume-mean radius; the grids are in the script's header." % (
+                  flags, minutes, described, KN, args.bond_strain * RN / (KN * cb.MEAN_RADIUS_2D),
+                  "the 2D grid's" if args.bond_strain == 1.0 else "%g times the 2D grid's" % args.bond_strain,
+                  1e3 * specimens[0]["volume_mean_radius"])]
         picture = os.path.relpath(os.path.abspath(args.picture) if args.picture else png, os.path.dirname(page))
     md[-1] += (("" if not reused else " Measured here: %s; taken from an earlier run (`--reuse`): %s." % (
         ", ".join(MODELS[m] for m in measured) or "none", ", ".join(MODELS[m] for m in reused)))
