@@ -161,6 +161,15 @@ SweepDesign WithLevels(SweepDesign design, int levels) {
   return design;
 }
 
+// A default design with its kt/kn box replaced (CalibrationOptions::stiffness_ratio_lower,
+// upper; both 0 keeps it).
+SweepDesign WithStiffnessBox(SweepDesign design, double lower, double upper) {
+  if (lower == 0.0 && upper == 0.0) return design;
+  for (SweepAxis& axis : design.axes)
+    if (axis.ratio == MicroRatio::kStiffnessRatio) axis.lower = lower, axis.upper = upper;
+  return design;
+}
+
 // A number every rank must agree on (a bound that sets the design, and so the sweep's points
 // and the maps' key), computed on rank 0 and sent to the others: one computation, and the
 // same bits everywhere even if it ran threads whose order is not reproducible.
@@ -271,6 +280,11 @@ bool CalibrationOptions::IsValid(std::string* error) const {
     out << "max_total_degree = " << max_total_degree << ", allowed 1 to 4";
   else if (sweep_levels != 0 && (sweep_levels < 3 || sweep_levels > 12))
     out << "sweep_levels = " << sweep_levels << ", allowed 0 (default) or 3 to 12";
+  else if (!(stiffness_ratio_lower == 0.0 && stiffness_ratio_upper == 0.0) &&
+           !(stiffness_ratio_lower > 0.0 && stiffness_ratio_lower < stiffness_ratio_upper &&
+             stiffness_ratio_upper <= 1.0))
+    out << "stiffness_ratio_lower, upper = " << stiffness_ratio_lower << ", " << stiffness_ratio_upper
+        << ": the kt/kn box, allowed 0 < lower < upper <= 1 (both 0: the default box)";
   else if (!(particle_poisson_ratio > -1.0 && particle_poisson_ratio < 0.5))
     out << "particle_poisson_ratio = " << particle_poisson_ratio << ", allowed (-1, 0.5)";
   else if (!(friction_coefficient >= 0.0 && friction_coefficient <= 10.0))
@@ -393,8 +407,14 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     return measured;
   };
 
-  auto obtain_maps = [&](bool deformable, const SweepDesign& design, const std::string& label) {
+  // The maps of one model, reused or built; *where is their file (empty: not stored) and
+  // *reused whether they were found there. With --model auto both models' maps may be
+  // obtained: only the chosen model's file takes the calibration's runs at the end.
+  auto obtain_maps = [&](bool deformable, const SweepDesign& design, const std::string& label, std::string* where,
+                         bool* reused) {
     StoredMaps stored;
+    *reused = false;
+    where->clear();
     const std::string key = MapKey(Dim, deformable, design, protocol, sweep_specimen, options.max_total_degree);
     std::string path;
     if (!options.maps_directory.empty()) {
@@ -407,10 +427,13 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     if (options.reuse_maps && !path.empty() && std::filesystem::exists(path)) {
       stored = LoadStoredMaps(path);
       std::string why;
-      if (stored.dimension == Dim && stored.deformable == deformable &&
-          MapsMatchPacking(stored.ucs_descriptors, sweep_ucs, &why)) {
-        summary.maps_reused = true;
-        summary.maps_path = path;
+      if (stored.dimension != Dim)
+        why = "the file holds " + std::to_string(stored.dimension) + "D maps";
+      else if (stored.deformable != deformable)
+        why = std::string("the file holds the maps of ") + (stored.deformable ? "DDEM" : "rigid particles");
+      if (why.empty() && MapsMatchPacking(stored.ucs_descriptors, sweep_ucs, &why)) {
+        *reused = true;
+        *where = path;
         // Anchors the stored maps lack: anchor_levels 3 on maps built with 2, or real
         // specimens other than those the maps were anchored on.
         const auto start = Clock::now();
@@ -457,7 +480,7 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
         SaveStoredMaps(stored, path);
         RemoveSweepJournals(sweep_options.journal_path);
       }
-      summary.maps_path = path;
+      *where = path;
     }
     return stored;
   };
@@ -497,15 +520,18 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
                                                         options.particle_poisson_ratio, plane_model,
                                                         options.max_spectral_radius, options.bond_range));
     });
-    SweepDesign d = WithLevels(
-        DefaultSweepDesign(true, options.particle_poisson_ratio, bound, options.friction_coefficient),
-        options.sweep_levels);
+    SweepDesign d = WithStiffnessBox(
+        WithLevels(DefaultSweepDesign(true, options.particle_poisson_ratio, bound, options.friction_coefficient),
+                   options.sweep_levels),
+        options.stiffness_ratio_lower, options.stiffness_ratio_upper);
     d.fixed.bond_range = options.bond_range;
     return d;
   };
   auto rigid_design = [&]() {
     if (!options.rigid_design.axes.empty()) return options.rigid_design;
-    SweepDesign d = WithLevels(DefaultSweepDesign(false, 0.0, 0.0, options.friction_coefficient), options.sweep_levels);
+    SweepDesign d = WithStiffnessBox(
+        WithLevels(DefaultSweepDesign(false, 0.0, 0.0, options.friction_coefficient), options.sweep_levels),
+        options.stiffness_ratio_lower, options.stiffness_ratio_upper);
     d.fixed.bond_range = options.bond_range;
     return d;
   };
@@ -557,10 +583,12 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     (chosen.deformable ? summary.deformable_reach : summary.rigid_reach) = solver->AssessReach();
   } else {
     StoredMaps rigid, deformable;
+    std::string rigid_path, deformable_path;
+    bool rigid_reused = false, deformable_reused = false;
     std::unique_ptr<CalibrationSolver> rigid_solver, deformable_solver;
     int rigid_stored = 0, deformable_stored = 0;
     if (options.model != CalibrationModel::kDeformable) {
-      rigid = obtain_maps(false, rigid_design(), "rigid maps");
+      rigid = obtain_maps(false, rigid_design(), "rigid maps", &rigid_path, &rigid_reused);
       rigid_solver = make_solver(rigid, 0.0, &rigid_stored);
       summary.rigid_reach = rigid_solver->AssessReach();
     }
@@ -582,7 +610,7 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     bool use_deformable = options.model == CalibrationModel::kDeformable;
     bool marginal = false;
     if (use_deformable || (options.model == CalibrationModel::kAutomatic && !rigid_inside)) {
-      deformable = obtain_maps(true, deformable_design(), "deformable maps");
+      deformable = obtain_maps(true, deformable_design(), "deformable maps", &deformable_path, &deformable_reused);
       summary.admissible_particle_compliance = admissible_on_real(deformable.design.fixed.particle_poisson_ratio);
       deformable_solver = make_solver(deformable, summary.admissible_particle_compliance, &deformable_stored);
       summary.deformable_reach = deformable_solver->AssessReach();
@@ -626,6 +654,8 @@ CalibrationSummary CalibrateToMaterial(const CalibrationSpecimens<Dim>& specimen
     summary.model_reason = reason;
     summary.model_used = use_deformable ? "ddem" : "rigid";
     chosen = use_deformable ? deformable : rigid;
+    summary.maps_path = use_deformable ? deformable_path : rigid_path;
+    summary.maps_reused = use_deformable ? deformable_reused : rigid_reused;
     solver = use_deformable ? std::move(deformable_solver) : std::move(rigid_solver);
     summary.stored_measurements = use_deformable ? deformable_stored : rigid_stored;
   }

@@ -104,6 +104,11 @@ struct CalibrationOptions {
   // Levels of kt/kn in the default designs (the other axes: one fewer, at least 3), 3 to 12;
   // 0 = DefaultSweepDesign's (4 rigid, 3 deformable). Denser sweeps: smaller fit error.
   int sweep_levels = 0;
+  // The box of kt/kn in the default designs, 0 < lower < upper <= 1; both 0 = DefaultSweepDesign's
+  // (rigid 0.15-0.9, DDEM 0.15-0.6). Below 0.15 nu rises beyond the default box's reach (spheres:
+  // 0.24 at kt/kn 0.15, 0.32 at 0.01, rigid; docs/calibration.md, "Reach of the models").
+  double stiffness_ratio_lower = 0.0;
+  double stiffness_ratio_upper = 0.0;
   double particle_poisson_ratio = 0.45;  // nu_p of the deformable maps, in (-1, 0.5)
   double friction_coefficient = 0.8;     // mu (Labra's verification value), >= 0
   // gamma of every map and round: bonds within gamma (ri + rj) (solver/bond_range.h), [1, 1.5].

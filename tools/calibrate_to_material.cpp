@@ -71,6 +71,7 @@ struct CommandLine {
   std::optional<double> loading_arc;  // default: 0 bonded (flat platens), 30 lattice
   std::string lattice_map = "target";
   std::optional<int> sweep_levels;
+  std::vector<double> sweep_stiffness_ratio;  // lower, upper; empty: the default box
   int anchor_levels = 2;
   std::string honour = "compressive";
   std::string output = "out/calibration";
@@ -89,6 +90,7 @@ const FieldNames kOptionNames = {
     {"loading_rate_group", "--rate-group"},
     {"loading_arc_deg", "--loading-arc"},
     {"sweep_levels", "--sweep-levels"},
+    {"stiffness_ratio_lower, upper", "--sweep-stiffness-ratio"},
     {"anchor_levels", "--anchor-levels"},
     {"workers", "--threads"},
     {"ucs_particles", "--count"},
@@ -447,6 +449,10 @@ int main(int argc, char** argv) {
   app.add_option("--sweep-levels", cl.sweep_levels,
                  "levels of kt/kn in the map sweep (Rt/Rn and kn/(Ep l): one fewer, at least 3), 3 to 12; "
                  "default 4 (rigid), 3 (DDEM)");
+  app.add_option("--sweep-stiffness-ratio", cl.sweep_stiffness_ratio,
+                 "LO HI: the box of kt/kn of the maps (and so of the calibration), 0 < LO < HI <= 1; default "
+                 "0.15 0.9 (rigid), 0.15 0.6 (DDEM); below 0.15 nu rises (spheres: 0.32 at 0.01)")
+      ->expected(2);
   app.add_option("--anchor-levels", cl.anchor_levels,
                  "transfer anchors measured on the real specimens: 2 (four, a two-level design) or 3 (besides "
                  "them nine at the edges and middle of the maps' box); stored maps with fewer are completed; "
@@ -475,8 +481,8 @@ int main(int argc, char** argv) {
     if (cl.model == "lattice" || (target.orthotropic && cl.model == "auto")) {
       if (cl.dimension != 2) throw InputError("--model lattice: the six-spring lattice is 2D (--dimension 2)");
       // Settings of the bonded calibration that the lattice has no use for: refused, not ignored.
-      for (const char* option : {"--threads", "--sweep-fraction",
-                                 "--sweep-levels", "--anchor-levels", "--nu-p", "--friction", "--bond-range", "--max-spectral-radius",
+      for (const char* option : {"--threads", "--sweep-fraction", "--sweep-levels", "--sweep-stiffness-ratio",
+                                 "--anchor-levels", "--nu-p", "--friction", "--bond-range", "--max-spectral-radius",
                                  "--honour"})
         if (app.count(option) > 0)
           throw InputError(std::string(option) + " is a setting of the bonded calibration, not of --model lattice");
@@ -508,6 +514,14 @@ int main(int argc, char** argv) {
       if (*cl.sweep_levels < 3 || *cl.sweep_levels > 12)
         throw InputError("--sweep-levels = " + std::to_string(*cl.sweep_levels) + ", allowed 3 to 12");
       options.sweep_levels = *cl.sweep_levels;
+    }
+    if (!cl.sweep_stiffness_ratio.empty()) {
+      const double lo = cl.sweep_stiffness_ratio[0], hi = cl.sweep_stiffness_ratio[1];
+      if (!(lo > 0.0 && lo < hi && hi <= 1.0))
+        throw InputError("--sweep-stiffness-ratio = " + Number(lo) + " " + Number(hi) +
+                         ": the kt/kn box, allowed 0 < LO < HI <= 1");
+      options.stiffness_ratio_lower = lo;
+      options.stiffness_ratio_upper = hi;
     }
     std::string error;
     if (!options.IsValid(&error)) throw InputError(error);

@@ -11,6 +11,8 @@
 #include <iterator>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -29,6 +31,19 @@ fs::path Material(const std::string& name, const std::string& body) {
 
 const char* kGood = "youngs_modulus = 18.7e9\npoisson_ratio = 0.2\nucs = 127.8e6\ntensile_strength = 12.3e6\n"
                     "density = 2580\n";
+
+// A bonded calibration on a 300-disc square with maps on itself (seconds): a target of E 15 GPa,
+// UCS 40 MPa, sigma_t 3 MPa at this nu, one round, into out (maps in out/maps) plus `extra`.
+Result RunSmallCalibration(const std::string& name, double poisson_ratio, const fs::path& out,
+                           const std::string& extra) {
+  const std::string material =
+      Material(name, "youngs_modulus = 15e9\npoisson_ratio = " + std::to_string(poisson_ratio) +
+                         "\nucs = 40e6\ntensile_strength = 3e6\ndensity = 2600\n")
+          .string();
+  return RunCalibrate(material + " --ucs-domain 'rectangle 0 0 0.01 0.01' --count 300 --sweep-fraction 1 "
+                                 "--sweep-levels 3 --rounds 1 --quiet --no-pictures --output " +
+                      out.string() + " --maps-dir " + (out.parent_path() / "maps").string() + extra);
+}
 
 TEST(CalibrateToMaterialCommand, BadInputExitsWithTwoAndWritesNothing) {
   const fs::path out = fs::temp_directory_path() / "specimen_cal_cli_out";
@@ -70,6 +85,10 @@ TEST(CalibrateToMaterialCommand, BadInputExitsWithTwoAndWritesNothing) {
       {good + o + " --dimension 4", 2, "--dimension"},
       {good + o + " --max-spectral-radius 1.2", 2, "--max-spectral-radius"},
       {good + o + " --sweep-fraction 0", 2, "--sweep-fraction"},
+      {good + o + " --sweep-stiffness-ratio 0.5 0.2", 2, "--sweep-stiffness-ratio"},
+      {good + o + " --sweep-stiffness-ratio 0 0.9", 2, "--sweep-stiffness-ratio"},
+      {good + o + " --sweep-stiffness-ratio 0.1 1.5", 2, "--sweep-stiffness-ratio"},
+      {good + o + " --sweep-stiffness-ratio 0.1 0.9 --model lattice", 2, "--sweep-stiffness-ratio"},
       {good + o + " --count 0", 2, "--count"},
       {good + o + " --rate-group 0", 2, "--rate-group"},
       {good + o + " --rounds 0", 2, "--rounds"},
@@ -112,21 +131,68 @@ TEST(CalibrateToMaterialCommand, BadInputExitsWithTwoAndWritesNothing) {
 // report names what was given up and the intervals, and the exit status is 4. A small
 // specimen with maps on itself (a few seconds); nu 0.45 is beyond any rigid-particle packing.
 TEST(CalibrateToMaterialCommand, UnreachableTargetExitsWithFourAndSaysWhatWasGivenUp) {
-  const fs::path out = fs::temp_directory_path() / "specimen_cal_cli_unreachable";
-  fs::remove_all(out);
-  const std::string material =
-      Material("high_nu", "youngs_modulus = 15e9\npoisson_ratio = 0.45\nucs = 40e6\ntensile_strength = 3e6\n"
-                          "density = 2600\n")
-          .string();
-  const Result r = RunCalibrate(material + " --model rigid --ucs-domain 'rectangle 0 0 0.01 0.01' --count 300 "
-                                           "--sweep-fraction 1 --sweep-levels 3 --rounds 1 --quiet --no-pictures "
-                                           "--output " + out.string() + " --maps-dir " + (out / "maps").string());
+  const fs::path dir = fs::temp_directory_path() / "specimen_cal_cli_unreachable", out = dir / "out";
+  fs::remove_all(dir);
+  const Result r = RunSmallCalibration("high_nu", 0.45, out, " --model rigid");
   EXPECT_EQ(r.status, 4) << r.output;
   EXPECT_NE(r.output.find("given up: nu"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("nu reach on this specimen (measured)"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(out / "calibration_report.json"));
   EXPECT_TRUE(fs::exists(out / "calibration_reach.csv"));
-  fs::remove_all(out);
+  fs::remove_all(dir);
+}
+
+// --model auto obtains both models' maps when the rigid reach does not hold the target; the
+// calibration's runs go into the chosen model's file only, and the other file keeps its own
+// model (written over with the chosen maps, its sweep would be lost). A target of nu 0.01,
+// below any packing's, is nearer the rigid reach: rigid particles are chosen.
+TEST(CalibrateToMaterialCommand, AutomaticChoiceWritesOnlyTheChosenModelsMapFile) {
+  const fs::path dir = fs::temp_directory_path() / ("specimen_cal_cli_auto_" + std::to_string(getpid()));
+  const fs::path out = dir / "out";
+  fs::remove_all(dir);
+  const Result r = RunSmallCalibration("low_nu", 0.01, out, " --threads 2");
+  ASSERT_EQ(r.status, 4) << r.output;
+  std::ifstream report_file(out / "calibration_report.json");
+  const nlohmann::json report = nlohmann::json::parse(report_file);
+  EXPECT_EQ(report.at("model").at("used").get<std::string>(), "rigid") << r.output;
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(dir / "maps")) {
+    const std::string name = e.path().filename().string();
+    if (e.path().extension() != ".json") continue;
+    ++files;
+    std::ifstream in(e.path());
+    const nlohmann::json maps = nlohmann::json::parse(in);
+    const bool ddem_file = name.rfind("maps_2d_ddem_", 0) == 0;
+    EXPECT_EQ(maps.at("model").get<std::string>(), ddem_file ? "deformable" : "rigid") << name;
+  }
+  EXPECT_EQ(files, 2) << "both models' maps stored";
+  fs::remove_all(dir);
+}
+
+// --sweep-stiffness-ratio sets the maps' box of kt/kn, and so the nu the reach measures at its
+// ends: below the default box's 0.15 rigid discs reach a higher nu (nu falls with kt/kn).
+TEST(CalibrateToMaterialCommand, AWiderStiffnessBoxWidensTheReachOfNu) {
+  const fs::path dir = fs::temp_directory_path() / ("specimen_cal_cli_box_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  auto top_of_nu_reach = [&](const std::string& box, const std::string& name) {
+    const Result r = RunSmallCalibration("box", 0.45, dir / name, " --model rigid" + box);
+    EXPECT_EQ(r.status, 4) << r.output;
+    const std::string tag = "nu reach on this specimen (measured): ";
+    const size_t at = r.output.find(tag);
+    if (at == std::string::npos) {
+      ADD_FAILURE() << r.output;
+      return 0.0;
+    }
+    const size_t to = r.output.find(" to ", at);
+    return std::stod(r.output.substr(to + 4));
+  };
+  const double default_top = top_of_nu_reach("", "default");
+  const double wide_top = top_of_nu_reach(" --sweep-stiffness-ratio 0.02 0.9", "wide");
+  EXPECT_GT(wide_top, default_top + 0.02) << "default box " << default_top << ", kt/kn from 0.02 " << wide_top;
+  int map_files = 0;  // the box is part of the maps' key: two map files
+  for (const auto& e : fs::directory_iterator(dir / "maps")) map_files += e.path().extension() == ".json";
+  EXPECT_EQ(map_files, 2);
+  fs::remove_all(dir);
 }
 
 }  // namespace

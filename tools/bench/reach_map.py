@@ -5,7 +5,7 @@ CSV, JSON and a picture.
 
   tools/bench/reach_map.py [--build build] [--dimension 2] [--out bench-out/reach] [--packings UCS BTS]
         [--models rigid,moment,ddem,lattice] [--markdown PATH] [--picture PATH] [--quick] [--reuse JSON]
-        [--lattice-map JSON] [--bond-strain FACTOR]
+        [--lattice-map JSON] [--bond-strain FACTOR] [--stiffness-ratios LIST]
 
 The specimens: the calibrator's own 5,064-disc UCS square and 3,940-disc Brazilian disc
 (--packings, or bench-out/calibration/reference/ when the calibration bench made them, or
@@ -36,7 +36,8 @@ calibration bench (bench-out/calibration3d/twin3d_01/; `calibration_bench.py --o
 platens, the calibrator's bonded default. kn and Rn keep the 2D grid's kn / l and bond strain at
 failure Rn / (kn l), l the UCS specimen's volume-mean radius (run-test's l in 3D); --bond-strain
 FACTOR multiplies Rn, and so that strain, in either dimension (in 3D the ratio of bonded spheres
-moves with it). The grids
+moves with it); --stiffness-ratios replaces the kt/kn levels of every bonded grid (to measure
+beyond the calibration maps' box, kt/kn 0.15-0.9). The grids
 (default models rigid, rigid_range, ddem_range):
 
   rigid        contact bonds: kt/kn 0.1, 0.3, 0.6, 0.9 x Rt/Rn 0.5, 2, 6, 20
@@ -226,9 +227,11 @@ def lattice_map_rows(path):
     return rows
 
 
-def measure(build, packings, models, out, quick=False, known=(), dimension=2, bond_strain=1.0):
+def measure(build, packings, models, out, quick=False, known=(), dimension=2, bond_strain=1.0,
+            stiffness_ratios=None):
     """Every point of every model's grid: rows of (model, elastic set, strength set, nu, ratio).
-    `known`: rows of an earlier run, whose flat-platen UCS and nu the *_jaws models take."""
+    `known`: rows of an earlier run, whose flat-platen UCS and nu the *_jaws models take.
+    `stiffness_ratios`: the kt/kn levels of every bonded grid instead of the grids' own."""
     rows = []
     runs = os.path.join(out, "runs")
     kn, rn, length = scales(dimension, packings[0], bond_strain)
@@ -274,6 +277,10 @@ def measure(build, packings, models, out, quick=False, known=(), dimension=2, bo
     else:
         rigid_grid, ddem_grid = ((0.1, 0.2, 0.4, 0.9), (0.25, 1.0, 3.16, 10.0, 30.0)), ((0.05, 0.15, 0.3, 0.6),
                                                                                         (1.0, 3.16, 10.0))
+    moment_grid = ((0.1, 0.2, 0.4, 0.9), (0.5, 1.0, 3.16, 10.0))
+    if stiffness_ratios:
+        rigid_grid, ddem_grid, moment_grid = ((tuple(stiffness_ratios), g[1]) for g in (rigid_grid, ddem_grid,
+                                                                                        moment_grid))
     if "rigid" in models:
         bonded("rigid", *rigid_grid, {})
     if "rigid_range" in models:
@@ -281,7 +288,7 @@ def measure(build, packings, models, out, quick=False, known=(), dimension=2, bo
     if "rigid_jaws" in models:
         bonded("rigid_jaws", *rigid_grid, {}, flat_model="rigid")
     if "moment" in models:
-        bonded("moment", (0.1, 0.2, 0.4, 0.9), (0.5, 1.0, 3.16, 10.0), {"bond_radius_ratio": 1.0})
+        bonded("moment", *moment_grid, {"bond_radius_ratio": 1.0})
     for model in ("ddem", "ddem_range", "ddem_jaws"):
         if model not in models:
             continue
@@ -449,9 +456,20 @@ def main():
                         help="multiplies Rn, and so the bond strain at failure Rn / (kn l), of every grid "
                              "(default 1: 2D Rn %g N/m, kn %g N/m/m); in 3D the ratio of bonded spheres moves with "
                              "it" % (RN, KN))
+    parser.add_argument("--stiffness-ratios", metavar="LIST",
+                        help="comma-separated kt/kn levels of every bonded grid (rigid, moment, ddem and their "
+                             "variants), each in (0, 1], instead of the grids' own")
     args = parser.parse_args()
     if not (args.bond_strain > 0.0):
         parser.error("--bond-strain: %g, must be > 0" % args.bond_strain)
+    stiffness_ratios = None
+    if args.stiffness_ratios:
+        try:
+            stiffness_ratios = sorted(float(v) for v in args.stiffness_ratios.split(","))
+        except ValueError:
+            parser.error("--stiffness-ratios: %r, must be comma-separated numbers" % args.stiffness_ratios)
+        if not all(0.0 < v <= 1.0 for v in stiffness_ratios):
+            parser.error("--stiffness-ratios: %s, each must lie in (0, 1]" % args.stiffness_ratios)
     dimension = args.dimension
     args.models = args.models or DEFAULT_MODELS[dimension]
     args.out = args.out or ("bench-out/reach" if dimension == 2 else "bench-out/reach3d")
@@ -505,7 +523,7 @@ def main():
     start = time.monotonic()
     measured = [m for m in models if not (m == "lattice" and args.lattice_map)]
     rows = measure(build, packings, measured, out, args.quick, known=earlier, dimension=dimension,
-                   bond_strain=args.bond_strain)
+                   bond_strain=args.bond_strain, stiffness_ratios=stiffness_ratios)
     if "lattice" in models and args.lattice_map:
         rows += lattice_map_rows(args.lattice_map)
     reused = []
@@ -530,6 +548,7 @@ def main():
         # 2D maps carry no dimension (those written before 3D had none).
         json.dump(dict({"dimension": 3} if dimension == 3 else {},
                        **({"bond_strain": args.bond_strain} if args.bond_strain != 1.0 else {}),
+                       **({"stiffness_ratios": stiffness_ratios} if stiffness_ratios else {}),
                        specimens=packings, points=rows, regions=table,
                        published_rocks=rocks, target={"poisson_ratio": target[0], "strength_ratio": target[1]},
                        target_covered_share=share), f, indent=1)
@@ -558,6 +577,7 @@ def main():
                   "".join(" --%s %s" % (k.replace("_", "-"), v) for k, v in (
                       ("models", args.models if args.models != DEFAULT_MODELS[2] else None),
                       ("bond_strain", "%g" % args.bond_strain if args.bond_strain != 1.0 else None),
+                      ("stiffness_ratios", args.stiffness_ratios),
                       ("reuse", args.reuse and os.path.relpath(os.path.abspath(args.reuse), ROOT)),
                       ("lattice_map", args.lattice_map and os.path.relpath(os.path.abspath(args.lattice_map), ROOT)))
                       if v), minutes)]
@@ -568,6 +588,7 @@ def main():
         flags += " --packings %s %s" % tuple(shown(p) for p in packings) if args.packings else ""
         flags += " --models " + args.models if args.models != DEFAULT_MODELS[3] else ""
         flags += " --bond-strain %g" % args.bond_strain if args.bond_strain != 1.0 else ""
+        flags += " --stiffness-ratios %s" % args.stiffness_ratios if args.stiffness_ratios else ""
         for name, path in (("markdown", args.markdown), ("picture", args.picture), ("reuse", args.reuse)):
             flags += " --%s %s" % (name, shown(path)) if path else ""
         flags += " --quick" if args.quick else ""
