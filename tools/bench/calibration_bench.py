@@ -24,6 +24,10 @@ CSV files and a plot of the error of every property against the strength round.
    bundled granitic gneiss): each either converges, or is declared out of reach before the
    first strength round (the report names what is given up), exit status 4.
 4. --twins-3d N: N 3D twins (rigid) on --count-3d spheres (maps built for that size first).
+5. 3d_low (--only 3d_low, after a 3d run into the same --out): two 3D twins made by rigid
+   spheres at kt/kn 0.06 and 0.1, below the maps' default box (nu 0.26-0.28, beyond its
+   reach), calibrated with the box widened (--sweep-stiffness-ratio 0.04 0.9); the first
+   builds the maps from an empty directory, the second gets them stripped to their anchors.
 Times are wall times of single runs on this machine; say how loaded it was.
 """
 import argparse
@@ -312,7 +316,7 @@ def main():
     parser.add_argument("--count-3d", type=int, default=20000)
     parser.add_argument("--seed", type=int, default=1, help="of the hidden parameters")
     parser.add_argument("--only", default="maps,twins,published",
-                        help="comma-separated: maps, twins, published, 3d")
+                        help="comma-separated: maps, twins, published, 3d, 3d_low")
     parser.add_argument("--markdown", help="the page of tables to write (default OUT/calibration_bench.md)")
     parser.add_argument("--reuse-shipped-maps", action="store_true",
                         help="the master maps are data/maps (no maps-built case)")
@@ -321,7 +325,7 @@ def main():
                              "maps built with them, or the shipped ones completed to them")
     args = parser.parse_args()
     cases = set(c.strip() for c in args.only.split(","))
-    unknown = cases - {"maps", "twins", "published", "3d"}
+    unknown = cases - {"maps", "twins", "published", "3d", "3d_low"}
     if unknown:
         parser.error("--only: unknown %s" % ", ".join(sorted(unknown)))
     if args.twins_3d > 0:
@@ -475,6 +479,45 @@ def main():
             reports.append((label, r))
         print_table("Twin experiments (3D, %d spheres)" % args.count_3d, rows3, True)
         rows += rows3
+
+    if "3d_low" in cases:
+        ref3 = os.path.join(out, "maps_built_3d")
+        report3 = os.path.join(ref3, "labra_3d_report.json")
+        if not os.path.exists(report3):
+            parser.error("3d_low: no 3D specimens in %s; run --only 3d --twins-3d 1 --count-3d %d into this --out first"
+                         % (ref3, args.count_3d))
+        with open(report3) as f:
+            mean_radius = json.load(f)["specimens"]["ucs"]["mean_radius_m"]
+        packings3 = [os.path.join(ref3, "labra_3d_ucs.packing"), os.path.join(ref3, "labra_3d_bts.packing")]
+        box = ["--sweep-stiffness-ratio", "0.04", "0.9"]
+        master_low = os.path.join(out, "maps_master_3d_low")
+        shutil.rmtree(master_low, ignore_errors=True)
+        rows_low = []
+        # kn and Rn as the 2D draws' scales on the spheres' mean radius (draw_hidden).
+        for i, (kn_2d, rn_2d, s, x) in enumerate(((2e10, 8e3, 0.06, 4.0), (4e10, 1.5e4, 0.1, 1.0))):
+            hidden = {"dimension": 3, "density": 2650.0, "kn": kn_2d * mean_radius,
+                      "rn": rn_2d * 2.5 * mean_radius ** 2 / MEAN_RADIUS_2D, "kt_over_kn": s, "rt_over_rn": x,
+                      "mean_radius": mean_radius}
+            d = os.path.join(out, "twin3d_low_%02d" % (i + 1))
+            target = forward(build, packings3, hidden, os.path.join(d, "forward"))
+            label = "3D twin below the box %d (rigid kt/kn %.2f, Rt/Rn %.1f)" % (i + 1, s, x)
+            material = os.path.join(d, "target.toml")
+            write_target(material, label, target, hidden["density"])
+            maps = os.path.join(d, "maps")
+            if i == 0:
+                shutil.rmtree(maps, ignore_errors=True)
+                os.makedirs(maps)
+            else:
+                fresh_maps(master_low, maps)
+            r = calibrate(build, material, d, "twin", maps, ["--dimension", "3", "--count", str(args.count_3d)] + box)
+            if i == 0:
+                shutil.copytree(maps, master_low)
+                strip_to_anchors(master_low)
+            rows_low.append(row_of(label + (", maps built" if i == 0 else ""), r))
+            reports.append((label, r))
+        print_table("Twin experiments below the maps' default box of kt/kn (3D, %d spheres, --sweep-stiffness-ratio "
+                    "0.04 0.9)" % args.count_3d, rows_low, True)
+        rows += rows_low
 
     fields = ["case", "model", "rounds", "best_round", "failed_rounds", "elastic_runs", "error_youngs", "error_poisson", "error_ucs",
               "error_tensile", "converged", "given_up", "declared_before_first_round", "nu_reach", "ratio_reach",
