@@ -85,10 +85,12 @@ TEST(CalibrateToMaterialCommand, BadInputExitsWithTwoAndWritesNothing) {
       {good + o + " --dimension 4", 2, "--dimension"},
       {good + o + " --max-spectral-radius 1.2", 2, "--max-spectral-radius"},
       {good + o + " --sweep-fraction 0", 2, "--sweep-fraction"},
-      {good + o + " --sweep-stiffness-ratio 0.5 0.2", 2, "--sweep-stiffness-ratio"},
-      {good + o + " --sweep-stiffness-ratio 0 0.9", 2, "--sweep-stiffness-ratio"},
-      {good + o + " --sweep-stiffness-ratio 0.1 1.5", 2, "--sweep-stiffness-ratio"},
-      {good + o + " --sweep-stiffness-ratio 0.1 0.9 --model lattice", 2, "--sweep-stiffness-ratio"},
+      {good + o + " --sweep-stiffness-ratio 0.5 0.2", 2, "--sweep-stiffness-ratio = 0.5 0.2: the kt/kn box, allowed"},
+      {good + o + " --sweep-stiffness-ratio 0 0.9", 2, "allowed 0 < LO < HI <= 1"},
+      {good + o + " --sweep-stiffness-ratio 0.1 1.5", 2, "allowed 0 < LO < HI <= 1"},
+      {good + o + " --sweep-stiffness-ratio 0.1", 2, "--sweep-stiffness-ratio"},
+      {good + o + " --sweep-stiffness-ratio 0.1 0.9 --model lattice", 2,
+       "--sweep-stiffness-ratio is a setting of the bonded calibration"},
       {good + o + " --count 0", 2, "--count"},
       {good + o + " --rate-group 0", 2, "--rate-group"},
       {good + o + " --rounds 0", 2, "--rounds"},
@@ -150,7 +152,8 @@ TEST(CalibrateToMaterialCommand, AutomaticChoiceWritesOnlyTheChosenModelsMapFile
   const fs::path dir = fs::temp_directory_path() / ("specimen_cal_cli_auto_" + std::to_string(getpid()));
   const fs::path out = dir / "out";
   fs::remove_all(dir);
-  const Result r = RunSmallCalibration("low_nu", 0.01, out, " --threads 2");
+  // (with a box of kt/kn of its own, which both models' designs take)
+  const Result r = RunSmallCalibration("low_nu", 0.01, out, " --threads 2 --sweep-stiffness-ratio 0.2 0.95");
   ASSERT_EQ(r.status, 4) << r.output;
   std::ifstream report_file(out / "calibration_report.json");
   const nlohmann::json report = nlohmann::json::parse(report_file);
@@ -164,6 +167,10 @@ TEST(CalibrateToMaterialCommand, AutomaticChoiceWritesOnlyTheChosenModelsMapFile
     const nlohmann::json maps = nlohmann::json::parse(in);
     const bool ddem_file = name.rfind("maps_2d_ddem_", 0) == 0;
     EXPECT_EQ(maps.at("model").get<std::string>(), ddem_file ? "deformable" : "rigid") << name;
+    const nlohmann::json& stiffness_axis = maps.at("design").at("axes").at(0);
+    EXPECT_EQ(stiffness_axis.at("ratio").get<std::string>(), "kt/kn") << name;
+    EXPECT_DOUBLE_EQ(stiffness_axis.at("lower").get<double>(), 0.2) << name;
+    EXPECT_DOUBLE_EQ(stiffness_axis.at("upper").get<double>(), 0.95) << name;
   }
   EXPECT_EQ(files, 2) << "both models' maps stored";
   fs::remove_all(dir);
