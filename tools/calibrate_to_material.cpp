@@ -530,6 +530,12 @@ int main(int argc, char** argv) {
     if (cl.count && *cl.count < 1)
       throw InputError("--count = " + std::to_string(*cl.count) + ", allowed >= 1");
     if (cl.seed < 0) throw InputError("--seed = " + std::to_string(cl.seed) + ", allowed >= 0");
+    // The design of maps to build: a given map file has its own (refused, not ignored).
+    if (!options.maps_file.empty())
+      for (const char* option : {"--sweep-levels", "--sweep-stiffness-ratio"})
+        if (app.count(option) > 0)
+          throw InputError(std::string(option) + " sets the design of maps to build; --maps " + options.maps_file +
+                           " uses that file's");
     CheckMapLocations(options.maps_file, options.maps_directory);
     return cl.dimension == 2 ? Run<2>(target, options, cl) : Run<3>(target, options, cl);
   };

@@ -105,6 +105,9 @@ TEST(CalibrateToMaterialCommand, BadInputExitsWithTwoAndWritesNothing) {
       {good + o + " --maps " + fs::temp_directory_path().string(), 3, "not a regular file"},
       {good + " --output " + out.string() + " --maps-dir " + good, 3, "not a directory"},
       {good + o + " --maps " + garbage.string(), 2, "not valid JSON"},
+      {good + o + " --maps " + garbage.string() + " --sweep-stiffness-ratio 0.05 0.9", 2,
+       "--sweep-stiffness-ratio sets the design of maps to build"},
+      {good + o + " --maps " + garbage.string() + " --sweep-levels 5", 2, "--sweep-levels sets the design"},
       // Files that do not exist.
       {"/nonexistent/material.toml" + o, 3, ""},
       // An orthotropic target: only the lattice takes it.
