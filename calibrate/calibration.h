@@ -105,8 +105,9 @@ struct CalibrationOptions {
   // 0 = DefaultSweepDesign's (4 rigid, 3 deformable). Denser sweeps: smaller fit error.
   int sweep_levels = 0;
   // The box of kt/kn in the default designs, 0 < lower < upper <= 1; both 0 = DefaultSweepDesign's
-  // (rigid 0.15-0.9, DDEM 0.15-0.6). Below 0.15 nu rises beyond the default box's reach (spheres:
-  // 0.24 at kt/kn 0.15, 0.32 at 0.01, rigid; docs/calibration.md, "Reach of the models").
+  // (rigid 0.15-0.9, DDEM 0.15-0.6). nu falls with kt/kn, so a lower bound below 0.15 reaches
+  // a higher nu (docs/calibration.md, "Reach of the models"). The command line, which has no
+  // unset value, refuses 0 itself.
   double stiffness_ratio_lower = 0.0;
   double stiffness_ratio_upper = 0.0;
   double particle_poisson_ratio = 0.45;  // nu_p of the deformable maps, in (-1, 0.5)

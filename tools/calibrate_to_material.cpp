@@ -451,7 +451,7 @@ int main(int argc, char** argv) {
                  "default 4 (rigid), 3 (DDEM)");
   app.add_option("--sweep-stiffness-ratio", cl.sweep_stiffness_ratio,
                  "LO HI: the box of kt/kn of the maps (and so of the calibration), 0 < LO < HI <= 1; default "
-                 "0.15 0.9 (rigid), 0.15 0.6 (DDEM); below 0.15 nu rises (spheres: 0.32 at 0.01)")
+                 "0.15 0.9 (rigid), 0.15 0.6 (DDEM); nu rises as kt/kn falls")
       ->expected(2);
   app.add_option("--anchor-levels", cl.anchor_levels,
                  "transfer anchors measured on the real specimens: 2 (four, a two-level design) or 3 (besides "
